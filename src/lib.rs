@@ -1,0 +1,20 @@
+//! # radiosity
+//!
+//! Diffuse global illumination by the radiosity method (Greenberg, Cohen, Torrance
+//! 1986), with hemi-cube form factors (Cohen & Greenberg 1985) and substructuring
+//! with adaptive quadtree subdivision (Cohen, Greenberg, Immel, Brock 1986).
+//!
+//! ## Brief overview
+//!
+//! The pipeline runs one way, one module per stage:
+//!
+//! - [`scene`]: a [`scene::Scene`] of planar surfaces with diffuse materials,
+//!   imported from glTF ([`gltf_io`]) or built in code ([`scene::SceneBuilder`],
+//!   [`scenes`]).
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod math;
+pub mod scene;
+
+pub use error::{Error, Result};

@@ -1,0 +1,9 @@
+//! Small numeric helpers shared by every stage: colour triples and planar polygons.
+
+mod polygon;
+mod rgb;
+
+pub use polygon::{
+    clip_to_halfspace, is_convex, newell_normal, planarity_error, polygon_area, polygon_centroid,
+};
+pub use rgb::Rgb;

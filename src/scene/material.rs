@@ -1,0 +1,73 @@
+//! Diffuse materials: reflectance per band and emitted exitance.
+
+use crate::error::{Error, Result};
+use crate::math::Rgb;
+
+/// A Lambertian material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name for messages and stats.
+    pub name: String,
+    /// Diffuse reflectance per band, each in [0, 1].
+    pub reflectance: Rgb,
+    /// Emitted exitance E = pi * L_e per band (W/m^2 in the scene's units), >= 0.
+    pub emission: Rgb,
+    /// Whether the source material was marked double-sided (informational: the
+    /// importer has already duplicated such surfaces back to back).
+    pub double_sided: bool,
+}
+
+impl Material {
+    /// A material from its reflectance and emitted *radiance* (as glTF stores it);
+    /// the exitance is pi times the radiance. Rejects reflectance outside [0, 1]
+    /// and negative or non-finite values, naming the material.
+    pub fn from_radiance(name: &str, reflectance: Rgb, radiance: Rgb) -> Result<Self> {
+        let m = Material {
+            name: name.to_string(),
+            reflectance,
+            emission: radiance * std::f64::consts::PI,
+            double_sided: false,
+        };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Checks the physical ranges; the error names the material and the fault.
+    pub fn validate(&self) -> Result<()> {
+        let err = |message: String| Error::Material {
+            material: self.name.clone(),
+            message,
+        };
+        if !self.reflectance.is_finite() {
+            return Err(err(format!(
+                "reflectance {:?} is not finite",
+                self.reflectance.0
+            )));
+        }
+        if self.reflectance.max_band() > 1.0 {
+            return Err(err(format!(
+                "reflectance {:?} is above 1 (a diffuse surface cannot reflect more than it receives)",
+                self.reflectance.0
+            )));
+        }
+        if self.reflectance.min_band() < 0.0 {
+            return Err(err(format!(
+                "reflectance {:?} is negative",
+                self.reflectance.0
+            )));
+        }
+        if !self.emission.is_finite() {
+            return Err(err(format!("emission {:?} is not finite", self.emission.0)));
+        }
+        if self.emission.min_band() < 0.0 {
+            return Err(err(format!("emission {:?} is negative", self.emission.0)));
+        }
+        Ok(())
+    }
+
+    /// True when the material emits in any band.
+    #[must_use]
+    pub fn is_emitter(&self) -> bool {
+        self.emission.max_band() > 0.0
+    }
+}

@@ -1,0 +1,99 @@
+//! Planar surfaces: triangles and convex quads.
+
+use crate::error::{Error, Result};
+use crate::math::{is_convex, newell_normal, planarity_error, polygon_area, polygon_centroid};
+use glam::DVec3;
+use smallvec::SmallVec;
+
+/// Relative out-of-plane deviation above which a quad is refused as non-planar
+/// (the builder splits such quads into two triangles instead).
+pub const PLANARITY_TOLERANCE: f64 = 1e-6;
+
+/// A planar triangle or convex quad. Vertices run counter-clockwise seen from the
+/// front, which is the side the unit `normal` points to. Only the front emits and
+/// reflects; the back blocks light.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Surface {
+    /// Three or four vertices in world space (metres).
+    pub vertices: SmallVec<[DVec3; 4]>,
+    /// Unit front normal.
+    pub normal: DVec3,
+    /// Area in square metres.
+    pub area: f64,
+    /// Index into `Scene::materials`.
+    pub material: u32,
+    /// Index into `Scene::objects`.
+    pub object: u32,
+}
+
+impl Surface {
+    /// A surface from 3 or 4 vertices. Fails on non-finite coordinates, zero area,
+    /// a non-planar or non-convex quad.
+    pub fn new(vertices: &[DVec3], material: u32, object: u32) -> Result<Self> {
+        if !(3..=4).contains(&vertices.len()) {
+            return Err(Error::Geometry(format!(
+                "a surface needs 3 or 4 vertices, got {}",
+                vertices.len()
+            )));
+        }
+        if vertices.iter().any(|v| !v.is_finite()) {
+            return Err(Error::Geometry(format!(
+                "non-finite vertex in {vertices:?}"
+            )));
+        }
+        let n = newell_normal(vertices);
+        let area = 0.5 * n.length();
+        let diam2 = vertices
+            .iter()
+            .flat_map(|a| vertices.iter().map(move |b| (*a - *b).length_squared()))
+            .fold(0.0, f64::max);
+        if !(area > 1e-12 * diam2) || area <= 0.0 {
+            return Err(Error::Geometry(format!(
+                "degenerate polygon (zero area) {vertices:?}"
+            )));
+        }
+        let normal = n / (2.0 * area);
+        if vertices.len() == 4 {
+            if planarity_error(vertices) > PLANARITY_TOLERANCE {
+                return Err(Error::Geometry(format!("non-planar quad {vertices:?}")));
+            }
+            if !is_convex(vertices, normal) {
+                return Err(Error::Geometry(format!("non-convex quad {vertices:?}")));
+            }
+        }
+        Ok(Surface {
+            vertices: vertices.iter().copied().collect(),
+            normal,
+            area,
+            material,
+            object,
+        })
+    }
+
+    /// The area centroid.
+    #[must_use]
+    pub fn centroid(&self) -> DVec3 {
+        polygon_centroid(&self.vertices)
+    }
+
+    /// True for a quad, false for a triangle.
+    #[must_use]
+    pub fn is_quad(&self) -> bool {
+        self.vertices.len() == 4
+    }
+
+    /// The same surface facing the other way (for double-sided materials).
+    #[must_use]
+    pub fn flipped(&self) -> Surface {
+        let mut s = self.clone();
+        s.vertices.reverse();
+        s.normal = -s.normal;
+        s
+    }
+
+    /// Recomputes the area from the vertices (after a transform).
+    #[must_use]
+    pub fn polygon_area(&self) -> f64 {
+        polygon_area(&self.vertices)
+    }
+}
