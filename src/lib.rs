@@ -18,3 +18,10 @@ pub mod math;
 pub mod scene;
 
 pub use error::{Error, Result};
+pub mod formfactor;
+pub mod mesh;
+pub mod pipeline;
+pub mod refine;
+pub mod solve;
+
+pub use pipeline::{solve, Settings, Solution};

@@ -47,7 +47,7 @@ impl Surface {
             .iter()
             .flat_map(|a| vertices.iter().map(move |b| (*a - *b).length_squared()))
             .fold(0.0, f64::max);
-        if !(area > 1e-12 * diam2) || area <= 0.0 {
+        if area.is_nan() || area <= 1e-12 * diam2 || area <= 0.0 {
             return Err(Error::Geometry(format!(
                 "degenerate polygon (zero area) {vertices:?}"
             )));

@@ -1,0 +1,254 @@
+//! The item-buffer rasterizer: projects patch polygons onto the five faces with a
+//! depth test, then sums the delta form factors of the pixels each patch won.
+
+use super::faces::Face;
+use super::table::DeltaTable;
+use crate::formfactor::{Row, Sources};
+use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
+use std::sync::Arc;
+
+const NOTHING: u32 = u32::MAX;
+/// The back of a single-sided surface: it hides what lies behind it but neither
+/// emits nor reflects, so its pixels count for no patch.
+const BACK_FACE: u32 = u32::MAX - 1;
+
+/// Counters of the work one hemi-cube buffer has done.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HemicubeStats {
+    /// Hemi-cubes rendered.
+    pub hemicubes: u64,
+    /// Polygon-face pairs projected and scan converted.
+    pub polygons_rasterized: u64,
+    /// Pixels written (depth test passed or not).
+    pub pixels_tested: u64,
+}
+
+/// A reusable hemi-cube: item and depth buffers for the five faces, and a dense
+/// accumulator over patches. One per thread; no allocation per hemi-cube.
+#[derive(Clone, Debug)]
+pub struct Hemicube {
+    table: Arc<DeltaTable>,
+    items: [Vec<u32>; 5],
+    depth: [Vec<f32>; 5],
+    accumulator: Vec<f64>,
+    touched: Vec<u32>,
+    /// Work counters.
+    pub stats: HemicubeStats,
+}
+
+impl Hemicube {
+    /// A hemi-cube with the given delta table, for a scene of `patches` patches.
+    #[must_use]
+    pub fn new(table: Arc<DeltaTable>, patches: usize) -> Self {
+        let n = table.n;
+        let face = |top: bool| if top { n * n } else { n * n / 2 };
+        let items = std::array::from_fn(|f| vec![NOTHING; face(f == 0)]);
+        let depth = std::array::from_fn(|f| vec![0.0f32; face(f == 0)]);
+        Hemicube {
+            table,
+            items,
+            depth,
+            accumulator: vec![0.0; patches],
+            touched: Vec::new(),
+            stats: HemicubeStats::default(),
+        }
+    }
+
+    /// The form factors from a differential area at `eye` with unit `normal` to
+    /// every patch of `sources`, skipping patches on `own_surface` (a planar
+    /// surface cannot see itself). `angle` rotates the hemi-cube about the normal,
+    /// which decorrelates the aliasing of neighbouring receivers.
+    pub fn row(
+        &mut self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+    ) -> Row {
+        self.clear();
+        let t0 = normal.any_orthonormal_vector();
+        let b0 = normal.cross(t0);
+        let (s, c) = angle.sin_cos();
+        let t = t0 * c + b0 * s;
+        let b = normal.cross(t);
+        let to_local = |v: DVec3| {
+            let d = v - eye;
+            DVec3::new(d.dot(t), d.dot(b), d.dot(normal))
+        };
+        for (id, poly) in sources.polygons.iter().enumerate() {
+            if poly.surface == own_surface || (poly.centre - eye).dot(normal) < -poly.radius {
+                continue;
+            }
+            let count = poly.count as usize;
+            let mut local = [DVec3::ZERO; 4];
+            let mut above = false;
+            let mut scale: f64 = 0.0;
+            for (l, v) in local.iter_mut().zip(&poly.vertices[..count]) {
+                *l = to_local(*v);
+                above |= l.z > 0.0;
+                scale = scale.max(l.length());
+            }
+            if !above {
+                continue;
+            }
+            // Plane of the polygon in local coordinates: m . q = h. The receiver
+            // sees the front when it lies on the normal's side (h < 0).
+            let m = DVec3::new(
+                poly.normal.dot(t),
+                poly.normal.dot(b),
+                poly.normal.dot(normal),
+            );
+            let h = m.dot(local[0]);
+            if h.abs() <= 1e-12 * scale {
+                continue; // seen edge-on: covers no pixel
+            }
+            let item = if h < 0.0 { id as u32 } else { BACK_FACE };
+            let near = 1e-7 * scale;
+            for (fi, face) in Face::ALL.iter().enumerate() {
+                self.rasterize(*face, fi, &local[..count], face.map(m), h, near, item);
+            }
+        }
+        self.accumulate()
+    }
+
+    fn clear(&mut self) {
+        for f in 0..5 {
+            self.items[f].fill(NOTHING);
+            self.depth[f].fill(0.0);
+        }
+        self.stats.hemicubes += 1;
+    }
+
+    /// Clips the polygon to the face's view volume in front of the near plane,
+    /// projects it, and scan converts it with a depth test on 1/depth (which is
+    /// affine in face coordinates for a planar polygon, hence exact).
+    #[allow(clippy::too_many_arguments)]
+    fn rasterize(
+        &mut self,
+        face: Face,
+        fi: usize,
+        local: &[DVec3],
+        m: DVec3,
+        h: f64,
+        near: f64,
+        item: u32,
+    ) {
+        let mut pts: SmallVec<[DVec3; 8]> = local.iter().map(|l| face.map(*l)).collect();
+        // Cull against the frustum's planes: all vertices beyond one plane.
+        let beyond = |f: &dyn Fn(&DVec3) -> bool| pts.iter().all(f);
+        if beyond(&|p| p.z <= near)
+            || beyond(&|p| p.x > p.z)
+            || beyond(&|p| p.x < -p.z)
+            || beyond(&|p| p.y > p.z)
+            || (face.is_top() && beyond(&|p| p.y < -p.z))
+            || (!face.is_top() && beyond(&|p| p.y < 0.0))
+        {
+            return;
+        }
+        if pts.iter().any(|p| p.z < near) {
+            pts = clip_near(&pts, near);
+            if pts.len() < 3 {
+                return;
+            }
+        }
+        let n = self.table.n;
+        let half = n as f64 * 0.5;
+        let (width, height) = (n, if face.is_top() { n } else { n / 2 });
+        let y_offset = if face.is_top() { 1.0 } else { 0.0 };
+        let screen: SmallVec<[DVec2; 8]> = pts
+            .iter()
+            .map(|p| DVec2::new((p.x / p.z + 1.0) * half, (p.y / p.z + y_offset) * half))
+            .collect();
+        // 1/depth at pixel (i, j): u = (i + 0.5)/half - 1, w = (j + 0.5)/half - y_offset.
+        let (du, dw) = (m.x / h / half, m.y / h / half);
+        let base = (m.x * (0.5 / half - 1.0) + m.y * (0.5 / half - y_offset) + m.z) / h;
+        self.stats.polygons_rasterized += 1;
+        let (ymin, ymax) = screen
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.y), hi.max(p.y))
+            });
+        let j0 = ((ymin - 0.5).ceil().max(0.0)) as usize;
+        let j1 = ((ymax - 0.5).ceil().min(height as f64)).max(0.0) as usize;
+        let items = &mut self.items[fi];
+        let depth = &mut self.depth[fi];
+        let mut tested = 0u64;
+        for j in j0..j1 {
+            let yc = j as f64 + 0.5;
+            let (mut xl, mut xr) = (f64::INFINITY, f64::NEG_INFINITY);
+            for k in 0..screen.len() {
+                let a = screen[k];
+                let b = screen[(k + 1) % screen.len()];
+                if (a.y <= yc && yc < b.y) || (b.y <= yc && yc < a.y) {
+                    let x = a.x + (yc - a.y) * (b.x - a.x) / (b.y - a.y);
+                    xl = xl.min(x);
+                    xr = xr.max(x);
+                }
+            }
+            if xl >= xr {
+                continue;
+            }
+            let i0 = ((xl - 0.5).ceil().max(0.0)) as usize;
+            let i1 = ((xr - 0.5).ceil().min(width as f64)).max(0.0) as usize;
+            let row_base = base + dw * j as f64;
+            let off = j * width;
+            for i in i0..i1 {
+                let z = (row_base + du * i as f64) as f32;
+                let px = off + i;
+                if z > depth[px] {
+                    depth[px] = z;
+                    items[px] = item;
+                }
+            }
+            tested += (i1.saturating_sub(i0)) as u64;
+        }
+        self.stats.pixels_tested += tested;
+    }
+
+    /// Sums delta form factors per patch and returns the sparse row.
+    fn accumulate(&mut self) -> Row {
+        let table = Arc::clone(&self.table);
+        for f in 0..5 {
+            let weights = if f == 0 { &table.top } else { &table.side };
+            for (px, &id) in self.items[f].iter().enumerate() {
+                if id < BACK_FACE {
+                    let slot = &mut self.accumulator[id as usize];
+                    if *slot == 0.0 {
+                        self.touched.push(id);
+                    }
+                    *slot += weights[px];
+                }
+            }
+        }
+        self.touched.sort_unstable();
+        let entries = self
+            .touched
+            .iter()
+            .map(|&id| {
+                let v = std::mem::take(&mut self.accumulator[id as usize]);
+                (id, v as f32)
+            })
+            .collect();
+        self.touched.clear();
+        Row::from_sorted(entries)
+    }
+}
+
+/// Sutherland-Hodgman against the plane depth = near.
+fn clip_near(pts: &[DVec3], near: f64) -> SmallVec<[DVec3; 8]> {
+    let mut out = SmallVec::new();
+    for k in 0..pts.len() {
+        let a = pts[k];
+        let b = pts[(k + 1) % pts.len()];
+        let (da, db) = (a.z - near, b.z - near);
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da >= 0.0) != (db >= 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    out
+}

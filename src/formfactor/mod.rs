@@ -1,0 +1,11 @@
+//! Form factors: the hemi-cube (item buffer of patch ids at a receiving point),
+//! the sparse rows it produces, and the source polygons it rasterizes.
+
+pub mod hemicube;
+mod row;
+mod rows;
+mod sources;
+
+pub use row::Row;
+pub use rows::{compute_rows, element_seed, RowSettings};
+pub use sources::{SourcePolygon, Sources};

@@ -1,0 +1,58 @@
+//! Sparse form-factor rows.
+
+/// The form factors from one receiver to the patches it sees: patch ids in
+/// increasing order (32 bits) with single-precision values. Patches not seen
+/// are not stored.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Row {
+    entries: Box<[(u32, f32)]>,
+}
+
+impl Row {
+    /// A row from `(patch, form factor)` pairs sorted by patch id.
+    #[must_use]
+    pub fn from_sorted(entries: Vec<(u32, f32)>) -> Self {
+        debug_assert!(entries.windows(2).all(|w| w[0].0 < w[1].0));
+        Row {
+            entries: entries.into_boxed_slice(),
+        }
+    }
+
+    /// The stored `(patch, form factor)` pairs.
+    #[must_use]
+    pub fn entries(&self) -> &[(u32, f32)] {
+        &self.entries
+    }
+
+    /// Number of stored entries.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// True when nothing is stored (not computed yet, or nothing visible).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// The sum of the row (the fraction of the hemisphere that sees a front face).
+    #[must_use]
+    pub fn sum(&self) -> f64 {
+        self.entries.iter().map(|e| f64::from(e.1)).sum()
+    }
+
+    /// The form factor to patch `j` (0 if not stored).
+    #[must_use]
+    pub fn get(&self, j: u32) -> f64 {
+        self.entries
+            .binary_search_by_key(&j, |e| e.0)
+            .map_or(0.0, |i| f64::from(self.entries[i].1))
+    }
+
+    /// Bytes of heap memory held.
+    #[must_use]
+    pub fn heap_bytes(&self) -> usize {
+        std::mem::size_of_val(&*self.entries)
+    }
+}

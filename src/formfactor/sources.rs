@@ -1,0 +1,60 @@
+//! The polygons a hemi-cube rasterizes: one per patch.
+
+use crate::mesh::Mesh;
+use glam::DVec3;
+
+/// A patch polygon as the hemi-cube sees it.
+#[derive(Clone, Debug)]
+pub struct SourcePolygon {
+    /// Vertices (the first `count` are used).
+    pub vertices: [DVec3; 4],
+    /// 3 or 4.
+    pub count: u8,
+    /// Unit front normal.
+    pub normal: DVec3,
+    /// The surface it lies on (a receiver never sees its own planar surface).
+    pub surface: u32,
+    /// Bounding sphere centre and radius, for culling.
+    pub centre: DVec3,
+    /// Bounding sphere radius.
+    pub radius: f64,
+}
+
+/// All patch polygons, indexed by patch id.
+#[derive(Clone, Debug, Default)]
+pub struct Sources {
+    /// One polygon per patch.
+    pub polygons: Vec<SourcePolygon>,
+}
+
+impl Sources {
+    /// The patch polygons of a mesh.
+    #[must_use]
+    pub fn from_mesh(mesh: &Mesh) -> Self {
+        let polygons = mesh
+            .patches
+            .iter()
+            .map(|p| {
+                let mut vertices = [DVec3::ZERO; 4];
+                for (i, v) in p.polygon.iter().enumerate() {
+                    vertices[i] = *v;
+                }
+                let centre = p.polygon.iter().copied().sum::<DVec3>() / p.polygon.len() as f64;
+                let radius = p
+                    .polygon
+                    .iter()
+                    .map(|v| (*v - centre).length())
+                    .fold(0.0, f64::max);
+                SourcePolygon {
+                    vertices,
+                    count: p.polygon.len() as u8,
+                    normal: mesh.surfaces[p.surface as usize].normal,
+                    surface: p.surface,
+                    centre,
+                    radius,
+                }
+            })
+            .collect();
+        Sources { polygons }
+    }
+}

@@ -1,0 +1,64 @@
+//! Patches and elements.
+
+use super::cell::Cell;
+use crate::formfactor::Row;
+use crate::math::Rgb;
+use glam::DVec3;
+use smallvec::SmallVec;
+
+slotmap::new_key_type! {
+    /// Key of an element in the mesh's arena.
+    pub struct ElementKey;
+}
+
+/// A patch: a constant-radiosity source of the coarse system, and the root of an
+/// element quadtree.
+#[derive(Clone, Debug)]
+pub struct Patch {
+    /// The scene surface it lies on.
+    pub surface: u32,
+    /// Its root element.
+    pub root: ElementKey,
+    /// World polygon, counter-clockwise around the surface normal.
+    pub polygon: SmallVec<[DVec3; 4]>,
+    /// Area in square metres.
+    pub area: f64,
+    /// Area centroid.
+    pub centroid: DVec3,
+    /// Solved radiosity (exitance), per band.
+    pub radiosity: Rgb,
+}
+
+/// A quadtree node. Leaves are receivers with a hemi-cube row each.
+#[derive(Clone, Debug)]
+pub struct Element {
+    /// The scene surface it lies on.
+    pub surface: u32,
+    /// The patch it belongs to.
+    pub patch: u32,
+    /// Its parent, `None` for a patch root.
+    pub parent: Option<ElementKey>,
+    /// Its four children, empty for a leaf.
+    pub children: SmallVec<[ElementKey; 4]>,
+    /// Its region in the surface lattice.
+    pub cell: Cell,
+    /// Depth below the patch root.
+    pub depth: u8,
+    /// Area in square metres.
+    pub area: f64,
+    /// Area centroid (where its hemi-cube sits).
+    pub centroid: DVec3,
+    /// Radiosity from the last gather (leaves), or the area-weighted mean of the
+    /// children (interior nodes, after a gather).
+    pub radiosity: Rgb,
+    /// Element-to-patch form factors (leaves only; empty until computed).
+    pub row: Row,
+}
+
+impl Element {
+    /// True for a leaf.
+    #[must_use]
+    pub fn is_leaf(&self) -> bool {
+        self.children.is_empty()
+    }
+}

@@ -1,0 +1,182 @@
+//! The integer lattice of one surface: how lattice coordinates map to world space,
+//! how the surface is cut into patches, and which patch holds a lattice point.
+
+use super::cell::{Cell, Probe, MAX_DEPTH};
+use crate::math::Rgb;
+use crate::scene::Surface;
+use glam::DVec3;
+use smallvec::SmallVec;
+use std::collections::HashMap;
+
+/// How a surface is cut into patches.
+#[derive(Clone, Debug)]
+pub enum PatchGrid {
+    /// A quad surface cut into `nu x nv` patches.
+    Quad {
+        /// Patches along the first edge (vertex 0 to 1).
+        nu: u32,
+        /// Patches along the second edge (vertex 0 to 3).
+        nv: u32,
+    },
+    /// A triangle cut `level` times into four: `4^level` patches.
+    Tri {
+        /// Subdivision level of the patch triangles.
+        level: u32,
+        /// Patch index (within the surface) of each patch cell.
+        cells: HashMap<Cell, u32>,
+    },
+}
+
+/// One surface's lattice and the material values its elements share.
+#[derive(Clone, Debug)]
+pub struct SurfaceLattice {
+    /// The surface's vertices (3 or 4), counter-clockwise around `normal`.
+    pub vertices: SmallVec<[DVec3; 4]>,
+    /// Unit front normal.
+    pub normal: DVec3,
+    /// Reflectance of the surface's material.
+    pub reflectance: Rgb,
+    /// Emitted exitance of the surface's material.
+    pub emission: Rgb,
+    /// The scene object this surface belongs to.
+    pub object: u32,
+    /// The patch cut.
+    pub grid: PatchGrid,
+    /// Index of this surface's first patch in `Mesh::patches`.
+    pub first_patch: u32,
+    /// Lattice extent along each axis (`L` for both axes of a triangle).
+    pub extent: (u32, u32),
+}
+
+impl SurfaceLattice {
+    /// Cuts `surface` into patches no larger than `patch_size` along any edge.
+    /// Returns the lattice and the patch cells in patch order.
+    pub(crate) fn new(
+        surface: &Surface,
+        reflectance: Rgb,
+        emission: Rgb,
+        patch_size: f64,
+        first_patch: u32,
+    ) -> (Self, Vec<Cell>) {
+        let v = &surface.vertices;
+        let root = 1u32 << MAX_DEPTH;
+        let (grid, extent, cells) = if v.len() == 4 {
+            let along = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| {
+                let len = (b - a).length().max((c - d).length());
+                ((len / patch_size).ceil() as u32).clamp(1, 1 << 18)
+            };
+            let nu = along(v[0], v[1], v[2], v[3]);
+            let nv = along(v[0], v[3], v[2], v[1]);
+            let mut cells = Vec::with_capacity((nu * nv) as usize);
+            for j in 0..nv {
+                for i in 0..nu {
+                    cells.push(Cell::Quad {
+                        u: i * root,
+                        v: j * root,
+                        size: root,
+                    });
+                }
+            }
+            (PatchGrid::Quad { nu, nv }, (nu * root, nv * root), cells)
+        } else {
+            let longest = (v[1] - v[0])
+                .length()
+                .max((v[2] - v[1]).length())
+                .max((v[0] - v[2]).length());
+            let mut level = 0u32;
+            while longest / f64::from(1u32 << level) > patch_size && level < 9 {
+                level += 1;
+            }
+            let extent = root << level;
+            let mut cells = vec![Cell::Tri {
+                a: 0,
+                b: 0,
+                size: extent,
+                up: true,
+            }];
+            for _ in 0..level {
+                cells = cells.iter().flat_map(|c| c.children()).collect();
+            }
+            cells.sort();
+            let lookup = cells
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (*c, i as u32))
+                .collect();
+            (
+                PatchGrid::Tri {
+                    level,
+                    cells: lookup,
+                },
+                (extent, extent),
+                cells,
+            )
+        };
+        (
+            SurfaceLattice {
+                vertices: v.clone(),
+                normal: surface.normal,
+                reflectance,
+                emission,
+                object: surface.object,
+                grid,
+                first_patch,
+                extent,
+            },
+            cells,
+        )
+    }
+
+    /// World position of a lattice point.
+    #[must_use]
+    pub fn position(&self, p: (u32, u32)) -> DVec3 {
+        let v = &self.vertices;
+        let s = f64::from(p.0) / f64::from(self.extent.0);
+        let t = f64::from(p.1) / f64::from(self.extent.1);
+        if v.len() == 4 {
+            // Bilinear map of a planar convex quad: iso-lines are straight, so
+            // lattice cells map to planar quads that tile the surface exactly.
+            let bottom = v[0].lerp(v[1], s);
+            let top = v[3].lerp(v[2], s);
+            bottom.lerp(top, t)
+        } else {
+            v[0] + (v[1] - v[0]) * s + (v[2] - v[0]) * t
+        }
+    }
+
+    /// World polygon of a cell.
+    #[must_use]
+    pub fn polygon(&self, cell: &Cell) -> SmallVec<[DVec3; 4]> {
+        cell.corners().iter().map(|c| self.position(*c)).collect()
+    }
+
+    /// The index (within this surface) of the patch whose cell contains the probe.
+    #[must_use]
+    pub fn patch_at(&self, p: Probe) -> Option<u32> {
+        let root = 4i64 << MAX_DEPTH;
+        match &self.grid {
+            PatchGrid::Quad { nu, nv } => {
+                if p.0 < 0 || p.1 < 0 {
+                    return None;
+                }
+                let (i, j) = (p.0 / root, p.1 / root);
+                (i < i64::from(*nu) && j < i64::from(*nv)).then(|| (j * i64::from(*nu) + i) as u32)
+            }
+            PatchGrid::Tri { level, cells } => {
+                let mut cell = Cell::Tri {
+                    a: 0,
+                    b: 0,
+                    size: self.extent.0,
+                    up: true,
+                };
+                if !cell.contains(p) {
+                    return None;
+                }
+                for _ in 0..*level {
+                    cell = *cell.children().iter().find(|c| c.contains(p))?;
+                }
+                cells.get(&cell).copied()
+            }
+        }
+    }
+}

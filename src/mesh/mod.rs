@@ -1,0 +1,169 @@
+//! The mesh: surfaces cut into patches, each patch the root of an element quadtree.
+//!
+//! Elements live in a slotmap arena ([`Mesh::elements`]); each holds its children in
+//! a `SmallVec`. Patches are the sources of the coarse system; leaf elements are the
+//! receivers whose hemi-cubes give element-to-patch form factors.
+
+mod cell;
+mod element;
+mod lattice;
+mod locate;
+mod shading;
+
+pub use cell::{Cell, Probe, MAX_DEPTH};
+pub use element::{Element, ElementKey, Patch};
+pub use lattice::{PatchGrid, SurfaceLattice};
+pub use shading::{ShadingMesh, VertexRadiosity};
+
+use crate::error::{Error, Result};
+use crate::math::{polygon_area, polygon_centroid, Rgb};
+use crate::scene::Scene;
+use slotmap::SlotMap;
+
+/// Surfaces, patches and element quadtrees of one scene.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    /// One lattice per scene surface, same order as `Scene::surfaces`.
+    pub surfaces: Vec<SurfaceLattice>,
+    /// All patches, surface by surface.
+    pub patches: Vec<Patch>,
+    /// The element arena.
+    pub elements: SlotMap<ElementKey, Element>,
+}
+
+impl Mesh {
+    /// Cuts every surface of `scene` into patches no larger than `patch_size`
+    /// (metres) along any edge; each patch is a single leaf element. Fails when the
+    /// patch count would exceed `max_patches`.
+    pub fn new(scene: &Scene, patch_size: f64, max_patches: usize) -> Result<Self> {
+        if !(patch_size.is_finite() && patch_size > 0.0) {
+            return Err(Error::Setting {
+                name: "patch-size",
+                message: format!("must be a positive length, got {patch_size}"),
+            });
+        }
+        let mut mesh = Mesh {
+            surfaces: Vec::with_capacity(scene.surfaces.len()),
+            patches: Vec::new(),
+            elements: SlotMap::with_key(),
+        };
+        for (si, surface) in scene.surfaces.iter().enumerate() {
+            let material = scene.material_of(surface);
+            let (lattice, cells) = SurfaceLattice::new(
+                surface,
+                material.reflectance,
+                material.emission,
+                patch_size,
+                mesh.patches.len() as u32,
+            );
+            if mesh.patches.len() + cells.len() > max_patches {
+                return Err(Error::Limit(format!(
+                    "more than {max_patches} patches at patch size {patch_size} m \
+                     (surface {si} alone needs {}); raise the patch size or the limit",
+                    cells.len()
+                )));
+            }
+            mesh.surfaces.push(lattice);
+            for cell in cells {
+                let patch = mesh.patches.len() as u32;
+                let key = mesh.insert_element(si as u32, patch, None, cell, 0);
+                let e = &mesh.elements[key];
+                let p = Patch {
+                    surface: si as u32,
+                    root: key,
+                    polygon: mesh.surfaces[si].polygon(&cell),
+                    area: e.area,
+                    centroid: e.centroid,
+                    radiosity: mesh.surfaces[si].emission,
+                };
+                mesh.patches.push(p);
+            }
+        }
+        Ok(mesh)
+    }
+
+    fn insert_element(
+        &mut self,
+        surface: u32,
+        patch: u32,
+        parent: Option<ElementKey>,
+        cell: Cell,
+        depth: u8,
+    ) -> ElementKey {
+        let lattice = &self.surfaces[surface as usize];
+        let polygon = lattice.polygon(&cell);
+        let radiosity = parent.map_or(lattice.emission, |p| self.elements[p].radiosity);
+        self.elements.insert(Element {
+            surface,
+            patch,
+            parent,
+            children: Default::default(),
+            cell,
+            depth,
+            area: polygon_area(&polygon),
+            centroid: polygon_centroid(&polygon),
+            radiosity,
+            row: Default::default(),
+        })
+    }
+
+    /// Splits a leaf into four children, which inherit its radiosity and start
+    /// with empty form-factor rows. Returns the children.
+    pub fn split(&mut self, key: ElementKey) -> [ElementKey; 4] {
+        let (surface, patch, cell, depth) = {
+            let e = &self.elements[key];
+            debug_assert!(e.is_leaf());
+            (e.surface, e.patch, e.cell, e.depth)
+        };
+        let kids = cell
+            .children()
+            .map(|c| self.insert_element(surface, patch, Some(key), c, depth + 1));
+        let e = &mut self.elements[key];
+        e.children.extend_from_slice(&kids);
+        e.row = Default::default();
+        kids
+    }
+
+    /// The leaf elements of patch `p`, depth first in child order.
+    #[must_use]
+    pub fn patch_leaves(&self, p: u32) -> Vec<ElementKey> {
+        let mut out = Vec::new();
+        let mut stack = vec![self.patches[p as usize].root];
+        while let Some(k) = stack.pop() {
+            let e = &self.elements[k];
+            if e.is_leaf() {
+                out.push(k);
+            } else {
+                stack.extend(e.children.iter().rev());
+            }
+        }
+        out
+    }
+
+    /// Every leaf element, patch by patch, in a stable order (the order used for
+    /// all parallel work, so that results do not depend on the thread count).
+    #[must_use]
+    pub fn leaves(&self) -> Vec<ElementKey> {
+        (0..self.patches.len() as u32)
+            .flat_map(|p| self.patch_leaves(p))
+            .collect()
+    }
+
+    /// Number of leaf elements.
+    #[must_use]
+    pub fn leaf_count(&self) -> usize {
+        self.elements.values().filter(|e| e.is_leaf()).count()
+    }
+
+    /// Reflectance of a patch's surface.
+    #[must_use]
+    pub fn patch_reflectance(&self, p: u32) -> Rgb {
+        self.surfaces[self.patches[p as usize].surface as usize].reflectance
+    }
+
+    /// Emission of a patch's surface.
+    #[must_use]
+    pub fn patch_emission(&self, p: u32) -> Rgb {
+        self.surfaces[self.patches[p as usize].surface as usize].emission
+    }
+}

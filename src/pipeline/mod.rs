@@ -1,0 +1,198 @@
+//! The whole solve: mesh, form factors, coarse solve, gather, refine, repeat.
+
+mod progress;
+mod settings;
+mod solution;
+mod stats;
+
+pub use progress::{Progress, Stage};
+pub use settings::Settings;
+pub use solution::{ObjectRadiosity, Solution};
+pub use stats::{EnergyBalance, HemicubeFigures, PassStats, SolveStats, StageSeconds};
+
+use crate::error::{Error, Result};
+use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
+use crate::formfactor::{compute_rows, RowSettings, Sources};
+use crate::math::Rgb;
+use crate::mesh::{ElementKey, Mesh};
+use crate::refine::mark_for_split;
+use crate::scene::Scene;
+use crate::solve::{gather, gauss_seidel, PatchSystem};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Solves `scene` with `settings`, reporting progress through `progress`.
+pub fn solve(
+    scene: &Scene,
+    settings: &Settings,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Solution> {
+    settings.validate()?;
+    if scene.surfaces.is_empty() {
+        return Err(Error::Geometry(format!(
+            "scene '{}' has no surfaces",
+            scene.name
+        )));
+    }
+    let started = Instant::now();
+    let mut stats = SolveStats::default();
+    let patch_size = settings.patch_size_for(scene);
+    let refine = &settings.refine;
+    let min_area = refine
+        .min_element_area
+        .unwrap_or_else(|| (scene.diameter() * 1e-3).powi(2));
+
+    let t = Instant::now();
+    let mut mesh = Mesh::new(scene, patch_size, settings.max_patches)?;
+    let depth0 = refine.uniform_depth.unwrap_or(refine.initial_depth);
+    split_uniformly(&mut mesh, depth0, refine.max_elements)?;
+    stats.seconds.mesh = t.elapsed().as_secs_f64();
+
+    let row_settings = RowSettings {
+        table: Arc::new(DeltaTable::new(settings.hemicube_resolution)),
+        seed: settings.seed,
+    };
+    let sources = Sources::from_mesh(&mesh);
+    let mut hemicube = HemicubeStats::default();
+
+    let leaves = mesh.leaves();
+    let t = Instant::now();
+    compute_and_store_rows(
+        &mut mesh,
+        &sources,
+        &leaves,
+        &row_settings,
+        &mut hemicube,
+        0,
+        progress,
+    );
+    stats.seconds.form_factors += t.elapsed().as_secs_f64();
+
+    let t = Instant::now();
+    let mut system = PatchSystem::from_mesh(&mesh);
+    let mut b: Vec<Rgb> = system.emission.clone();
+    progress(Progress {
+        stage: Stage::Solve,
+        done: 0,
+        total: 1,
+    });
+    let mut report = gauss_seidel(&system, &mut b, &settings.solver)?;
+    let mut iterations = report.iterations;
+    let mut totals = gather(&mut mesh, &b);
+    stats.seconds.solve += t.elapsed().as_secs_f64();
+    progress(Progress {
+        stage: Stage::Solve,
+        done: 1,
+        total: 1,
+    });
+
+    if refine.uniform_depth.is_none() {
+        for pass in 1..=refine.max_passes {
+            let t_pass = Instant::now();
+            let room = refine.max_elements.saturating_sub(mesh.leaf_count());
+            let marks = mark_for_split(&mesh, refine.tolerance, refine.max_depth, min_area, room);
+            if marks.split.is_empty() {
+                stats.final_max_difference = marks.max_difference;
+                break;
+            }
+            let mut fresh: Vec<ElementKey> = Vec::new();
+            for &k in &marks.split {
+                fresh.extend(mesh.split(k));
+            }
+            for k in mesh.balance(fresh.clone()) {
+                fresh.extend(mesh.elements[k].children.iter().copied());
+            }
+            fresh.retain(|k| mesh.elements[*k].is_leaf());
+            let mut touched: Vec<u32> = fresh.iter().map(|k| mesh.elements[*k].patch).collect();
+            touched.sort_unstable();
+            touched.dedup();
+
+            let t = Instant::now();
+            compute_and_store_rows(
+                &mut mesh,
+                &sources,
+                &fresh,
+                &row_settings,
+                &mut hemicube,
+                pass,
+                progress,
+            );
+            let ff_seconds = t.elapsed().as_secs_f64();
+            stats.seconds.form_factors += ff_seconds;
+
+            let t = Instant::now();
+            system.refresh(&mesh, &touched);
+            report = gauss_seidel(&system, &mut b, &settings.solver)?;
+            iterations += report.iterations;
+            totals = gather(&mut mesh, &b);
+            stats.seconds.solve += t.elapsed().as_secs_f64();
+
+            stats.passes.push(PassStats {
+                pass,
+                split: marks.split.len(),
+                elements: mesh.leaf_count(),
+                new_hemicubes: fresh.len(),
+                seconds: t_pass.elapsed().as_secs_f64(),
+                max_neighbour_difference: marks.max_difference,
+                blocked: marks.blocked,
+            });
+            stats.final_max_difference = marks.max_difference;
+        }
+    }
+
+    stats.finish(
+        &mesh, &system, scene, settings, report, iterations, totals, hemicube,
+    );
+    stats.seconds.total = started.elapsed().as_secs_f64();
+    Ok(Solution {
+        mesh,
+        patch_radiosity: b,
+        system,
+        stats,
+    })
+}
+
+/// Splits every patch to `depth`, failing if that would exceed `max_elements`.
+fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()> {
+    let leaves = mesh.patches.len() as f64 * 4f64.powi(i32::from(depth));
+    if leaves > max_elements as f64 {
+        return Err(Error::Limit(format!(
+            "{} patches split to depth {depth} give {leaves} elements, more than the \
+             element budget of {max_elements}",
+            mesh.patches.len()
+        )));
+    }
+    for _ in 0..depth {
+        for k in mesh.leaves() {
+            mesh.split(k);
+        }
+    }
+    Ok(())
+}
+
+fn compute_and_store_rows(
+    mesh: &mut Mesh,
+    sources: &Sources,
+    keys: &[ElementKey],
+    settings: &RowSettings,
+    hemicube: &mut HemicubeStats,
+    pass: usize,
+    progress: &(dyn Fn(Progress) + Sync),
+) {
+    let total = keys.len();
+    let report = |done| {
+        progress(Progress {
+            stage: Stage::FormFactors { pass },
+            done,
+            total,
+        });
+    };
+    report(0);
+    let (rows, s) = compute_rows(mesh, sources, keys, settings, &report);
+    for (k, row) in keys.iter().zip(rows) {
+        mesh.elements[*k].row = row;
+    }
+    hemicube.hemicubes += s.hemicubes;
+    hemicube.polygons_rasterized += s.polygons_rasterized;
+    hemicube.pixels_tested += s.pixels_tested;
+}

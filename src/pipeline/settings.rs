@@ -1,0 +1,76 @@
+//! Settings of a solve, with defaults derived from the scene.
+
+use crate::error::{Error, Result};
+use crate::refine::RefineSettings;
+use crate::scene::Scene;
+use crate::solve::SolverSettings;
+
+/// Everything a solve can be told.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// Hemi-cube resolution: pixels across the top face (even).
+    pub hemicube_resolution: usize,
+    /// Largest patch edge in metres; `None` derives it from the scene's size.
+    pub patch_size: Option<f64>,
+    /// Seed of the hemi-cube rotations.
+    pub seed: u64,
+    /// Gauss-Seidel stopping rules.
+    pub solver: SolverSettings,
+    /// Refinement.
+    pub refine: RefineSettings,
+    /// Most patches the mesh may hold.
+    pub max_patches: usize,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            hemicube_resolution: 128,
+            patch_size: None,
+            seed: 1,
+            solver: SolverSettings::default(),
+            refine: RefineSettings::default(),
+            max_patches: 50_000,
+        }
+    }
+}
+
+/// The default patch size is the scene's bounding-box diagonal over this.
+pub const PATCHES_PER_DIAMETER: f64 = 12.0;
+
+impl Settings {
+    /// The patch size to use for `scene`.
+    #[must_use]
+    pub fn patch_size_for(&self, scene: &Scene) -> f64 {
+        self.patch_size
+            .unwrap_or_else(|| scene.diameter() / PATCHES_PER_DIAMETER)
+    }
+
+    /// Checks every setting's range; the error names the setting.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, message: String| Err(Error::Setting { name, message });
+        let n = self.hemicube_resolution;
+        if !(8..=4096).contains(&n) || n % 2 != 0 {
+            return bad("hemicube-res", format!("must be even, 8 to 4096, got {n}"));
+        }
+        if let Some(p) = self.patch_size {
+            if !(p.is_finite() && p > 0.0) {
+                return bad("patch-size", format!("must be a positive length, got {p}"));
+            }
+        }
+        let s = &self.solver;
+        if !(s.tolerance.is_finite() && s.tolerance > 0.0) {
+            return bad(
+                "tolerance",
+                format!("must be positive, got {}", s.tolerance),
+            );
+        }
+        if !(s.relaxation > 0.0 && s.relaxation < 2.0) {
+            return bad(
+                "relaxation",
+                format!("must lie in (0, 2), got {}", s.relaxation),
+            );
+        }
+        self.refine.validate()
+    }
+}

@@ -1,0 +1,143 @@
+//! Figures of a solve, serialisable as the stats JSON.
+
+use super::Settings;
+use crate::formfactor::hemicube::HemicubeStats;
+use crate::math::Rgb;
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use crate::solve::{GatherTotals, PatchSystem, SolveReport};
+use serde::Serialize;
+
+/// Wall-clock seconds per stage.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct StageSeconds {
+    /// Cutting surfaces into patches and the initial elements.
+    pub mesh: f64,
+    /// Hemi-cube rows, all passes.
+    pub form_factors: f64,
+    /// Gauss-Seidel and gathers, all passes.
+    pub solve: f64,
+    /// The whole library solve.
+    pub total: f64,
+}
+
+/// Hemi-cube figures.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct HemicubeFigures {
+    /// Pixels across the top face.
+    pub resolution: usize,
+    /// Hemi-cubes rendered (one per leaf element row).
+    pub hemicubes: u64,
+    /// Polygon-face pairs scan converted.
+    pub polygons_rasterized: u64,
+    /// Pixels depth-tested.
+    pub pixels_tested: u64,
+    /// Element-to-patch form factors stored.
+    pub element_form_factors: usize,
+    /// Patch-to-patch form factors stored.
+    pub patch_form_factors: usize,
+    /// Mean element row sum (1 in a closed scene).
+    pub mean_row_sum: f64,
+    /// Largest element row sum.
+    pub max_row_sum: f64,
+}
+
+/// The energy balance of the final gather, per band and summed over bands.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct EnergyBalance {
+    /// Emitted power per band, sum of `A E`.
+    pub emitted_power: Rgb,
+    /// Absorbed power per band, sum of `A (1 - rho) H`.
+    pub absorbed_power: Rgb,
+    /// `(absorbed - emitted) / emitted`, bands summed (0 in a closed scene;
+    /// negative where light escapes an open scene).
+    pub relative_difference: f64,
+}
+
+/// One refinement pass.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PassStats {
+    /// Pass number, from 1.
+    pub pass: usize,
+    /// Leaves the criterion split.
+    pub split: usize,
+    /// Leaf elements after the pass (including splits for balance).
+    pub elements: usize,
+    /// Hemi-cubes computed in the pass.
+    pub new_hemicubes: usize,
+    /// Seconds the pass took.
+    pub seconds: f64,
+    /// Largest neighbour difference before the pass, relative to the brightest
+    /// reflected radiosity.
+    pub max_neighbour_difference: f64,
+    /// Leaves over the tolerance that could not split (depth, size, budget).
+    pub blocked: usize,
+}
+
+/// Everything the library measured.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SolveStats {
+    /// Scene surfaces.
+    pub surfaces: usize,
+    /// Patches.
+    pub patches: usize,
+    /// Leaf elements.
+    pub elements: usize,
+    /// Patch size used, metres.
+    pub patch_size: f64,
+    /// Seconds per stage.
+    pub seconds: StageSeconds,
+    /// Hemi-cube figures.
+    pub hemicube: HemicubeFigures,
+    /// The final coarse solve.
+    pub solver: SolveReport,
+    /// Gauss-Seidel sweeps over all passes.
+    pub total_iterations: usize,
+    /// Energy balance of the final solution.
+    pub energy: EnergyBalance,
+    /// Refinement passes.
+    pub passes: Vec<PassStats>,
+    /// Largest remaining neighbour difference (relative), at the last check.
+    pub final_max_difference: f64,
+}
+
+impl SolveStats {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn finish(
+        &mut self,
+        mesh: &Mesh,
+        system: &PatchSystem,
+        scene: &Scene,
+        settings: &Settings,
+        report: SolveReport,
+        iterations: usize,
+        totals: GatherTotals,
+        hemicube: HemicubeStats,
+    ) {
+        self.surfaces = scene.surfaces.len();
+        self.patches = mesh.patches.len();
+        self.patch_size = settings.patch_size_for(scene);
+        let leaves = mesh.leaves();
+        self.elements = leaves.len();
+        let sums: Vec<f64> = leaves.iter().map(|k| mesh.elements[*k].row.sum()).collect();
+        self.hemicube = HemicubeFigures {
+            resolution: settings.hemicube_resolution,
+            hemicubes: hemicube.hemicubes,
+            polygons_rasterized: hemicube.polygons_rasterized,
+            pixels_tested: hemicube.pixels_tested,
+            element_form_factors: leaves.iter().map(|k| mesh.elements[*k].row.len()).sum(),
+            patch_form_factors: system.nonzeros(),
+            mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,
+            max_row_sum: sums.iter().copied().fold(0.0, f64::max),
+        };
+        self.solver = report;
+        self.total_iterations = iterations;
+        let e = totals.emitted.0.iter().sum::<f64>();
+        let a = totals.absorbed.0.iter().sum::<f64>();
+        self.energy = EnergyBalance {
+            emitted_power: totals.emitted,
+            absorbed_power: totals.absorbed,
+            relative_difference: if e > 0.0 { (a - e) / e } else { 0.0 },
+        };
+    }
+}

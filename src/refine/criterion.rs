@@ -1,0 +1,77 @@
+//! The subdivision criterion: radiosity differences between edge neighbours.
+
+use crate::mesh::{ElementKey, Mesh};
+
+/// The result of one pass of the criterion.
+#[derive(Clone, Debug, Default)]
+pub struct Marks {
+    /// Leaves to split, in a deterministic order.
+    pub split: Vec<ElementKey>,
+    /// The largest neighbour difference found, relative to the reference.
+    pub max_difference: f64,
+    /// Leaves that exceed the tolerance but may not split (depth, size, budget).
+    pub blocked: usize,
+}
+
+/// Marks leaves whose radiosity differs from an edge neighbour's by more than
+/// `tolerance` times the brightest reflected radiosity (any band). Both sides of
+/// such an edge are marked, if they may split: depth below `max_depth`, children
+/// no smaller than `min_area`, and the largest differences first until the
+/// budget of `room` new leaves is used up.
+#[must_use]
+pub fn mark_for_split(
+    mesh: &Mesh,
+    tolerance: f64,
+    max_depth: u8,
+    min_area: f64,
+    room: usize,
+) -> Marks {
+    let leaves = mesh.leaves();
+    let reference = leaves
+        .iter()
+        .map(|&k| {
+            let e = &mesh.elements[k];
+            (e.radiosity - mesh.surfaces[e.surface as usize].emission).max_band()
+        })
+        .fold(0.0, f64::max);
+    let mut marks = Marks::default();
+    if reference <= 0.0 {
+        return marks;
+    }
+    let order: std::collections::HashMap<ElementKey, usize> =
+        leaves.iter().enumerate().map(|(i, k)| (*k, i)).collect();
+    let mut worst: Vec<f64> = vec![0.0; leaves.len()];
+    for (i, &k) in leaves.iter().enumerate() {
+        let e = &mesh.elements[k];
+        for n in mesh.edge_neighbours(k).into_iter().flatten() {
+            let ne = &mesh.elements[n];
+            if !ne.is_leaf() {
+                continue;
+            }
+            let d = (e.radiosity - ne.radiosity).abs().max_band() / reference;
+            worst[i] = worst[i].max(d);
+            if let Some(&j) = order.get(&n) {
+                worst[j] = worst[j].max(d);
+            }
+        }
+    }
+    marks.max_difference = worst.iter().copied().fold(0.0, f64::max);
+    let mut candidates: Vec<(usize, f64)> = worst
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| **d > tolerance)
+        .map(|(i, d)| (i, *d))
+        .collect();
+    candidates.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let mut budget = room;
+    for (i, _) in candidates {
+        let e = &mesh.elements[leaves[i]];
+        if e.depth >= max_depth || e.area * 0.25 < min_area || budget < 3 {
+            marks.blocked += 1;
+            continue;
+        }
+        budget -= 3;
+        marks.split.push(leaves[i]);
+    }
+    marks
+}

@@ -1,0 +1,72 @@
+//! Adaptive subdivision: where neighbouring elements differ by more than a
+//! tolerance, split them, keeping the quadtree balanced.
+
+mod criterion;
+
+pub use criterion::{mark_for_split, Marks};
+
+use crate::error::{Error, Result};
+
+/// How the mesh is refined.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RefineSettings {
+    /// `None` for adaptive refinement; `Some(d)` subdivides every patch to depth
+    /// `d` uniformly and does not adapt (for comparisons).
+    pub uniform_depth: Option<u8>,
+    /// Depth every patch is split to before the first solve (adaptive mode).
+    pub initial_depth: u8,
+    /// Split when neighbouring radiosities differ by more than this fraction of
+    /// the scene's brightest reflected radiosity, in any band.
+    pub tolerance: f64,
+    /// Deepest element below a patch.
+    pub max_depth: u8,
+    /// Smallest element area (square metres); `None` derives it from the scene.
+    pub min_element_area: Option<f64>,
+    /// Most leaf elements the mesh may hold.
+    pub max_elements: usize,
+    /// Most refinement passes.
+    pub max_passes: usize,
+}
+
+impl Default for RefineSettings {
+    fn default() -> Self {
+        RefineSettings {
+            uniform_depth: None,
+            initial_depth: 1,
+            tolerance: 0.02,
+            max_depth: 5,
+            min_element_area: None,
+            max_elements: 200_000,
+            max_passes: 8,
+        }
+    }
+}
+
+impl RefineSettings {
+    /// Checks ranges; the error names the setting.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, message: String| Err(Error::Setting { name, message });
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return bad(
+                "refine-tolerance",
+                format!("must be positive, got {}", self.tolerance),
+            );
+        }
+        let deepest = self
+            .uniform_depth
+            .unwrap_or(self.max_depth)
+            .max(self.initial_depth);
+        if deepest > crate::mesh::MAX_DEPTH {
+            return bad(
+                "max-depth",
+                format!("{deepest} exceeds the lattice's {}", crate::mesh::MAX_DEPTH),
+            );
+        }
+        if let Some(a) = self.min_element_area {
+            if !(a.is_finite() && a >= 0.0) {
+                return bad("min-element-area", format!("must be >= 0, got {a}"));
+            }
+        }
+        Ok(())
+    }
+}
