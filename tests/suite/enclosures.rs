@@ -1,0 +1,117 @@
+//! Closed enclosures: row sums, energy balance, furnaces and the exact 6-patch
+//! cube.
+
+use super::common::{closed_box, rel, FaceMaterial};
+use glam::DVec3;
+use radiosity::math::Rgb;
+use radiosity::Settings;
+
+fn uniform_settings(patch_size: f64, depth: u8) -> Settings {
+    let mut s = Settings::default();
+    s.patch_size = Some(patch_size);
+    s.refine.uniform_depth = Some(depth);
+    s
+}
+
+#[test]
+fn every_row_of_a_closed_scene_sums_to_one() {
+    let scene = closed_box(DVec3::new(1.0, 0.7, 1.3), [FaceMaterial::grey(0.5, 1.0); 6]);
+    let sol = radiosity::solve(&scene, &uniform_settings(0.25, 1), &|_| {}).unwrap();
+    let mut worst: f64 = 0.0;
+    for e in sol.mesh.elements.values().filter(|e| e.is_leaf()) {
+        worst = worst.max((e.row.sum() - 1.0).abs());
+    }
+    assert!(worst < 1e-3, "largest row-sum error {worst}");
+}
+
+#[test]
+fn closed_box_with_mixed_reflectances_balances_energy() {
+    // At least 8 x 8 patches a face; non-uniform, coloured reflectances; one
+    // emitting face. Emitted power must equal absorbed power.
+    let faces = [
+        FaceMaterial {
+            reflectance: Rgb::new(0.7, 0.6, 0.2),
+            exitance: Rgb::ZERO,
+        },
+        FaceMaterial {
+            reflectance: Rgb::new(0.3, 0.3, 0.3),
+            exitance: Rgb::new(2.0, 1.5, 1.0),
+        },
+        FaceMaterial {
+            reflectance: Rgb::new(0.1, 0.8, 0.4),
+            exitance: Rgb::ZERO,
+        },
+        FaceMaterial {
+            reflectance: Rgb::new(0.9, 0.2, 0.5),
+            exitance: Rgb::ZERO,
+        },
+        FaceMaterial {
+            reflectance: Rgb::new(0.5, 0.5, 0.9),
+            exitance: Rgb::ZERO,
+        },
+        FaceMaterial {
+            reflectance: Rgb::new(0.05, 0.4, 0.6),
+            exitance: Rgb::ZERO,
+        },
+    ];
+    let scene = closed_box(DVec3::new(1.0, 1.0, 1.0), faces);
+    let sol = radiosity::solve(&scene, &uniform_settings(0.125, 0), &|_| {}).unwrap();
+    assert!(sol.stats.patches >= 6 * 64);
+    let e = sol.stats.energy.emitted_power;
+    let a = sol.stats.energy.absorbed_power;
+    for band in 0..3 {
+        assert!(
+            rel(a[band], e[band]) < 0.01,
+            "band {band}: emitted {} absorbed {}",
+            e[band],
+            a[band]
+        );
+    }
+}
+
+#[test]
+fn furnace_gives_e_over_one_minus_rho() {
+    for rho in [0.5, 0.9] {
+        let scene = closed_box(DVec3::new(1.0, 0.8, 1.2), [FaceMaterial::grey(rho, 1.0); 6]);
+        let sol = radiosity::solve(&scene, &uniform_settings(0.3, 1), &|_| {}).unwrap();
+        let exact = 1.0 / (1.0 - rho);
+        for e in sol.mesh.elements.values().filter(|e| e.is_leaf()) {
+            for band in 0..3 {
+                assert!(
+                    rel(e.radiosity[band], exact) < 0.005,
+                    "rho {rho}: element {} vs exact {exact}",
+                    e.radiosity[band]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn six_patch_cube_converges_to_the_exact_solution() {
+    // Exact values from the research brief (algorithms.md 4.5), computed with
+    // the analytic form factors of the unit cube (opposite 0.199825, adjacent
+    // 0.200044): six patches, the ceiling emitting E = 1.
+    let cases = [
+        (0.5, 0.181746, 1.090909, 0.181836),
+        (0.8, 0.689551, 1.551724, 0.689681),
+    ];
+    for (rho, floor, ceiling, wall) in cases {
+        let mut faces = [FaceMaterial::grey(rho, 0.0); 6];
+        faces[1] = FaceMaterial::grey(rho, 1.0);
+        let scene = closed_box(DVec3::ONE, faces);
+        // One patch a face, a uniform 32 x 32 grid of elements on each.
+        let sol = radiosity::solve(&scene, &uniform_settings(1.0, 5), &|_| {}).unwrap();
+        assert_eq!(sol.stats.patches, 6);
+        let b = &sol.patch_radiosity;
+        assert!(rel(b[0][0], floor) < 0.005, "rho {rho} floor {}", b[0][0]);
+        assert!(
+            rel(b[1][0], ceiling) < 0.005,
+            "rho {rho} ceiling {}",
+            b[1][0]
+        );
+        for w in 2..6 {
+            assert!(rel(b[w][0], wall) < 0.005, "rho {rho} wall {}", b[w][0]);
+        }
+    }
+}

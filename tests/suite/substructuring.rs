@@ -1,0 +1,43 @@
+//! Substructuring invariants and adaptive refinement.
+
+use super::common::{closed_box, FaceMaterial};
+use glam::DVec3;
+use radiosity::math::Rgb;
+use radiosity::Settings;
+
+#[test]
+fn patch_radiosity_is_the_area_mean_of_its_elements() {
+    let mut faces = [FaceMaterial::grey(0.6, 0.0); 6];
+    faces[1] = FaceMaterial {
+        reflectance: Rgb::splat(0.4),
+        exitance: Rgb::new(3.0, 2.0, 1.0),
+    };
+    faces[4].reflectance = Rgb::new(0.8, 0.1, 0.1);
+    let scene = closed_box(DVec3::new(1.0, 1.0, 1.0), faces);
+    let mut s = Settings::default();
+    s.patch_size = Some(0.34);
+    s.refine.tolerance = 0.01;
+    s.solver.tolerance = 1e-9;
+    let sol = radiosity::solve(&scene, &s, &|_| {}).unwrap();
+    assert!(
+        !sol.stats.passes.is_empty(),
+        "the test needs a refined mesh"
+    );
+    for (i, p) in sol.mesh.patches.iter().enumerate() {
+        let mut sum = Rgb::ZERO;
+        for k in sol.mesh.patch_leaves(i as u32) {
+            let e = &sol.mesh.elements[k];
+            sum += e.radiosity * e.area;
+        }
+        let mean = sum / p.area;
+        let b = sol.patch_radiosity[i];
+        for band in 0..3 {
+            assert!(
+                (mean[band] - b[band]).abs() <= 1e-6 * b.max_band().max(1e-12),
+                "patch {i} band {band}: elements {} patch {}",
+                mean[band],
+                b[band]
+            );
+        }
+    }
+}
