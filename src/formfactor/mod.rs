@@ -2,10 +2,14 @@
 //! the sparse rows it produces, and the source polygons it rasterizes.
 
 pub mod hemicube;
+mod method;
+mod point_polygon;
 mod row;
 mod rows;
 mod sources;
 
+pub use method::FormFactorMethod;
+pub use point_polygon::point_to_polygon;
 pub use row::Row;
 pub use rows::{compute_rows, element_seed, RowSettings};
 pub use sources::{SourcePolygon, Sources};

@@ -14,6 +14,8 @@ pub struct RowSettings {
     pub table: Arc<DeltaTable>,
     /// Seed of the per-receiver random rotations.
     pub seed: u64,
+    /// How pixels become form factors.
+    pub method: super::FormFactorMethod,
 }
 
 /// A well-mixed 64-bit hash (SplitMix64 finaliser).
@@ -73,7 +75,14 @@ pub fn compute_rows(
                 // element's own size, so that the offset is scale invariant.
                 let eye = e.centroid + lattice.normal * (1e-6 * e.area.sqrt());
                 let before = cube.stats;
-                let row = cube.row(sources, eye, lattice.normal, angle, e.surface);
+                let row = cube.row(
+                    sources,
+                    eye,
+                    lattice.normal,
+                    angle,
+                    e.surface,
+                    settings.method,
+                );
                 polygons.fetch_add(
                     cube.stats.polygons_rasterized - before.polygons_rasterized,
                     Ordering::Relaxed,

@@ -51,6 +51,7 @@ pub fn solve(
     let row_settings = RowSettings {
         table: Arc::new(DeltaTable::new(settings.hemicube_resolution)),
         seed: settings.seed,
+        method: settings.form_factors,
     };
     let sources = Sources::from_mesh(&mesh);
     let mut hemicube = HemicubeStats::default();

@@ -1,6 +1,7 @@
 //! Settings of a solve, with defaults derived from the scene.
 
 use crate::error::{Error, Result};
+use crate::formfactor::FormFactorMethod;
 use crate::refine::RefineSettings;
 use crate::scene::Scene;
 use crate::solve::SolverSettings;
@@ -14,6 +15,8 @@ pub struct Settings {
     pub patch_size: Option<f64>,
     /// Seed of the hemi-cube rotations.
     pub seed: u64,
+    /// How hemi-cube pixels become form factors.
+    pub form_factors: FormFactorMethod,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
     /// Refinement.
@@ -28,6 +31,7 @@ impl Default for Settings {
             hemicube_resolution: 128,
             patch_size: None,
             seed: 1,
+            form_factors: FormFactorMethod::default(),
             solver: SolverSettings::default(),
             refine: RefineSettings::default(),
             max_patches: 50_000,

@@ -3,7 +3,7 @@
 
 use super::faces::Face;
 use super::table::DeltaTable;
-use crate::formfactor::{Row, Sources};
+use crate::formfactor::{point_to_polygon, FormFactorMethod, Row, Sources};
 use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 use std::sync::Arc;
@@ -33,6 +33,9 @@ pub struct Hemicube {
     depth: [Vec<f32>; 5],
     accumulator: Vec<f64>,
     touched: Vec<u32>,
+    /// Delta form factors of every pixel a front face covered, won or not.
+    covered: Vec<f64>,
+    covered_touched: Vec<u32>,
     /// Work counters.
     pub stats: HemicubeStats,
 }
@@ -51,6 +54,8 @@ impl Hemicube {
             depth,
             accumulator: vec![0.0; patches],
             touched: Vec::new(),
+            covered: vec![0.0; patches],
+            covered_touched: Vec::new(),
             stats: HemicubeStats::default(),
         }
     }
@@ -58,7 +63,8 @@ impl Hemicube {
     /// The form factors from a differential area at `eye` with unit `normal` to
     /// every patch of `sources`, skipping patches on `own_surface` (a planar
     /// surface cannot see itself). `angle` rotates the hemi-cube about the normal,
-    /// which decorrelates the aliasing of neighbouring receivers.
+    /// which decorrelates the aliasing of neighbouring receivers. `method` says
+    /// how pixels become form factors.
     pub fn row(
         &mut self,
         sources: &Sources,
@@ -66,6 +72,7 @@ impl Hemicube {
         normal: DVec3,
         angle: f64,
         own_surface: u32,
+        method: FormFactorMethod,
     ) -> Row {
         self.clear();
         let t0 = normal.any_orthonormal_vector();
@@ -110,7 +117,41 @@ impl Hemicube {
                 self.rasterize(*face, fi, &local[..count], face.map(m), h, near, item);
             }
         }
-        self.accumulate()
+        let mut row = self.accumulate();
+        if method == FormFactorMethod::Hybrid {
+            row = self.hybrid(row, sources, eye, normal);
+        }
+        for id in self.covered_touched.drain(..) {
+            self.covered[id as usize] = 0.0;
+        }
+        row
+    }
+
+    /// Replaces each won pixel sum by the exact unoccluded form factor times the
+    /// fraction of the patch's covered pixels it won.
+    fn hybrid(&self, row: Row, sources: &Sources, eye: DVec3, normal: DVec3) -> Row {
+        let mut entries: Vec<(u32, f64)> = row
+            .entries()
+            .iter()
+            .map(|&(id, won)| {
+                let poly = &sources.polygons[id as usize];
+                let exact = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
+                let covered = self.covered[id as usize];
+                let visible = if covered > 0.0 {
+                    (f64::from(won) / covered).min(1.0)
+                } else {
+                    0.0
+                };
+                (id, exact * visible)
+            })
+            .collect();
+        let sum: f64 = entries.iter().map(|e| e.1).sum();
+        if sum > 1.0 {
+            for e in &mut entries {
+                e.1 /= sum;
+            }
+        }
+        Row::from_sorted(entries.into_iter().map(|(i, f)| (i, f as f32)).collect())
     }
 
     fn clear(&mut self) {
@@ -174,6 +215,12 @@ impl Hemicube {
         let j1 = ((ymax - 0.5).ceil().min(height as f64)).max(0.0) as usize;
         let items = &mut self.items[fi];
         let depth = &mut self.depth[fi];
+        let prefix = if face.is_top() {
+            &self.table.top_prefix
+        } else {
+            &self.table.side_prefix
+        };
+        let mut covered = 0.0;
         let mut tested = 0u64;
         for j in j0..j1 {
             let yc = j as f64 + 0.5;
@@ -202,9 +249,19 @@ impl Hemicube {
                     items[px] = item;
                 }
             }
-            tested += (i1.saturating_sub(i0)) as u64;
+            if i1 > i0 {
+                tested += (i1 - i0) as u64;
+                covered += prefix[j * (width + 1) + i1] - prefix[j * (width + 1) + i0];
+            }
         }
         self.stats.pixels_tested += tested;
+        if item < BACK_FACE && covered > 0.0 {
+            let slot = &mut self.covered[item as usize];
+            if *slot == 0.0 {
+                self.covered_touched.push(item);
+            }
+            *slot += covered;
+        }
     }
 
     /// Sums delta form factors per patch and returns the sparse row.

@@ -10,6 +10,11 @@ pub struct DeltaTable {
     pub top: Vec<f64>,
     /// One side face, row-major `n` wide and `n/2` high, row 0 at the horizon.
     pub side: Vec<f64>,
+    /// Running sums of `top` along each row: `n + 1` entries a row, so that the
+    /// delta form factors of a span of pixels cost one subtraction.
+    pub top_prefix: Vec<f64>,
+    /// Running sums of `side` along each row.
+    pub side_prefix: Vec<f64>,
 }
 
 impl DeltaTable {
@@ -46,7 +51,26 @@ impl DeltaTable {
         for v in top.iter_mut().chain(side.iter_mut()) {
             *v /= total;
         }
-        DeltaTable { n, top, side }
+        let prefix = |t: &[f64]| {
+            let mut out = Vec::with_capacity(t.len() + t.len() / n);
+            for row in t.chunks(n) {
+                let mut acc = 0.0;
+                out.push(0.0);
+                for v in row {
+                    acc += v;
+                    out.push(acc);
+                }
+            }
+            out
+        };
+        let (top_prefix, side_prefix) = (prefix(&top), prefix(&side));
+        DeltaTable {
+            n,
+            top,
+            side,
+            top_prefix,
+            side_prefix,
+        }
     }
 
     /// The sum of all five faces (1 up to rounding).
