@@ -121,10 +121,23 @@ fn segment_hits_quad(a: DVec3, b: DVec3, quad: &[DVec3; 4]) -> bool {
 }
 
 /// Monte Carlo estimate of the visible form factor from floor point `x` (normal
-/// +y) to the light, with its standard error: uniform samples on the light
-/// (a fan of triangles chosen by area), `A cos_i cos_l V / (pi r^2)`.
+/// +y) to the light, with its standard error.
 fn monte_carlo_form_factor(spec: &PenumbraSpec, x: DVec3, samples: usize, seed: u64) -> (f64, f64) {
-    let light = &spec.light;
+    monte_carlo_occluded(&spec.light, &spec.occluders, x, DVec3::Y, samples, seed)
+}
+
+/// Monte Carlo estimate of the visible form factor from `x` with unit normal `n`
+/// to a convex light behind quad occluders, with its standard error: uniform
+/// samples on the light (a fan of triangles chosen by area),
+/// `A cos_i cos_l V / (pi r^2)`.
+fn monte_carlo_occluded(
+    light: &[DVec3],
+    occluders: &[[DVec3; 4]],
+    x: DVec3,
+    n: DVec3,
+    samples: usize,
+    seed: u64,
+) -> (f64, f64) {
     let light_normal = (light[1] - light[0]).cross(light[2] - light[0]).normalize();
     let triangles: Vec<[DVec3; 3]> = (1..light.len() - 1)
         .map(|k| [light[0], light[k], light[k + 1]])
@@ -147,11 +160,11 @@ fn monte_carlo_form_factor(spec: &PenumbraSpec, x: DVec3, samples: usize, seed: 
         let r1 = rng.next_f64().sqrt();
         let r2 = rng.next_f64();
         let y = a * (1.0 - r1) + b * (r1 * (1.0 - r2)) + c * (r1 * r2);
-        let hidden = spec.occluders.iter().any(|q| segment_hits_quad(x, y, q));
+        let hidden = occluders.iter().any(|q| segment_hits_quad(x, y, q));
         let value = if hidden {
             0.0
         } else {
-            total_area * kernel(x, DVec3::Y, y, light_normal, true)
+            total_area * kernel(x, n, y, light_normal, true)
         };
         sum += value;
         sum2 += value * value;
@@ -464,6 +477,45 @@ fn penumbra_check_values() {
     let full = oracle.unoccluded_form_factor(x, DVec3::Y).unwrap();
     let visible = oracle.visible_form_factor(x, DVec3::Y).unwrap();
     assert_close(visible, 0.5 * full, 1e-15, "half hidden");
+}
+
+#[test]
+fn tilted_receiver_with_an_occluder_through_its_level_and_beyond_the_light() {
+    // A vertical wall at x = 0.3 reaching from below the receiver to above the
+    // light plane: only its part between the receiver's level (parallel to the
+    // light) and the light plane can hide anything. The receiver is tilted so
+    // that its horizon also cuts the light.
+    let light = [
+        DVec3::new(-0.5, 4.0, -0.5),
+        DVec3::new(0.5, 4.0, -0.5),
+        DVec3::new(0.5, 4.0, 0.5),
+        DVec3::new(-0.5, 4.0, 0.5),
+    ];
+    let wall = [
+        DVec3::new(0.3, -1.0, -2.0),
+        DVec3::new(0.3, -1.0, 0.1),
+        DVec3::new(0.3, 6.0, 0.1),
+        DVec3::new(0.3, 6.0, -2.0),
+    ];
+    let x = DVec3::new(0.9, 0.5, 0.2);
+    let n = DVec3::new(1.0, 0.3, 0.1).normalize();
+    let oracle = OccludedLight::new(&light, &[wall]).unwrap();
+    let exact = oracle.visible_form_factor(x, n).unwrap();
+    let full = oracle.unoccluded_form_factor(x, n).unwrap();
+    let horizon_cut = light.iter().any(|v| n.dot(*v - x) < 0.0);
+    assert!(
+        horizon_cut,
+        "the receiver's horizon is meant to cut the light"
+    );
+    assert!(
+        exact > 0.05 * full && exact < 0.95 * full,
+        "{exact} of {full}"
+    );
+    let (mc, se) = monte_carlo_occluded(&light, &[wall], x, n, 200_000, 4242);
+    assert!(
+        (exact - mc).abs() <= 3.0 * se,
+        "exact {exact}, Monte Carlo {mc} +- {se}"
+    );
 }
 
 /// The brief's recipe, steps 2-4: project the occluder's vertices from the point
