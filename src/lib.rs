@@ -13,9 +13,11 @@
 //!   [`scenes`]).
 #![warn(missing_docs)]
 
+pub mod analytic;
 pub mod error;
 pub mod math;
 pub mod scene;
+pub mod scenes;
 
 pub use error::{Error, Result};
 pub mod formfactor;
