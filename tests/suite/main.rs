@@ -3,4 +3,5 @@
 
 mod common;
 mod enclosures;
+mod hemicube;
 mod substructuring;
