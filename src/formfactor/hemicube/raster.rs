@@ -36,6 +36,9 @@ pub struct Hemicube {
     /// Delta form factors of every pixel a front face covered, won or not.
     covered: Vec<f64>,
     covered_touched: Vec<u32>,
+    /// Per-row span limits of the polygon being scan converted.
+    span_left: Vec<f64>,
+    span_right: Vec<f64>,
     /// Work counters.
     pub stats: HemicubeStats,
 }
@@ -56,6 +59,8 @@ impl Hemicube {
             touched: Vec::new(),
             covered: vec![0.0; patches],
             covered_touched: Vec::new(),
+            span_left: vec![f64::INFINITY; n],
+            span_right: vec![f64::NEG_INFINITY; n],
             stats: HemicubeStats::default(),
         }
     }
@@ -176,24 +181,32 @@ impl Hemicube {
         near: f64,
         item: u32,
     ) {
-        let mut pts: SmallVec<[DVec3; 8]> = local.iter().map(|l| face.map(*l)).collect();
-        // Cull against the frustum's planes: all vertices beyond one plane.
-        let beyond = |f: &dyn Fn(&DVec3) -> bool| pts.iter().all(f);
-        if beyond(&|p| p.z <= near)
-            || beyond(&|p| p.x > p.z)
-            || beyond(&|p| p.x < -p.z)
-            || beyond(&|p| p.y > p.z)
-            || (face.is_top() && beyond(&|p| p.y < -p.z))
-            || (!face.is_top() && beyond(&|p| p.y < 0.0))
-        {
+        // Cull against the frustum's planes (all vertices beyond one plane)
+        // before building anything: most polygons miss most faces.
+        let mut mapped = [DVec3::ZERO; 4];
+        let mut outside = [true; 6];
+        for (m, l) in mapped.iter_mut().zip(local) {
+            let p = face.map(*l);
+            *m = p;
+            outside[0] &= p.z <= near;
+            outside[1] &= p.x > p.z;
+            outside[2] &= p.x < -p.z;
+            outside[3] &= p.y > p.z;
+            outside[4] &= if face.is_top() { p.y < -p.z } else { p.y < 0.0 };
+            outside[5] &= p.z >= near;
+        }
+        if outside[..5].iter().any(|o| *o) {
             return;
         }
-        if pts.iter().any(|p| p.z < near) {
-            pts = clip_near(&pts, near);
-            if pts.len() < 3 {
+        let pts: SmallVec<[DVec3; 8]> = if outside[5] {
+            SmallVec::from_slice(&mapped[..local.len()])
+        } else {
+            let clipped = clip_near(&mapped[..local.len()], near);
+            if clipped.len() < 3 {
                 return;
             }
-        }
+            clipped
+        };
         let n = self.table.n;
         let half = n as f64 * 0.5;
         let (width, height) = (n, if face.is_top() { n } else { n / 2 });
@@ -211,8 +224,32 @@ impl Hemicube {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
                 (lo.min(p.y), hi.max(p.y))
             });
-        let j0 = ((ymin - 0.5).ceil().max(0.0)) as usize;
-        let j1 = ((ymax - 0.5).ceil().min(height as f64)).max(0.0) as usize;
+        let j0 = ceil_index(ymin - 0.5, height);
+        let j1 = ceil_index(ymax - 0.5, height);
+        if j0 >= j1 {
+            return;
+        }
+        // Walk every edge once, recording per row the span's left and right ends
+        // at the pixel-centre line (a convex polygon crosses each row twice).
+        let (left, right) = (&mut self.span_left, &mut self.span_right);
+        for k in 0..screen.len() {
+            let a = screen[k];
+            let b = screen[(k + 1) % screen.len()];
+            let (lo, hi) = if a.y <= b.y { (a, b) } else { (b, a) };
+            let (r0, r1) = (
+                ceil_index(lo.y - 0.5, height),
+                ceil_index(hi.y - 0.5, height),
+            );
+            if r0 >= r1 {
+                continue;
+            }
+            let slope = (hi.x - lo.x) / (hi.y - lo.y);
+            for j in r0..r1 {
+                let x = lo.x + (j as f64 + 0.5 - lo.y) * slope;
+                left[j] = left[j].min(x);
+                right[j] = right[j].max(x);
+            }
+        }
         let items = &mut self.items[fi];
         let depth = &mut self.depth[fi];
         let prefix = if face.is_top() {
@@ -223,31 +260,29 @@ impl Hemicube {
         let mut covered = 0.0;
         let mut tested = 0u64;
         for j in j0..j1 {
-            let yc = j as f64 + 0.5;
-            let (mut xl, mut xr) = (f64::INFINITY, f64::NEG_INFINITY);
-            for k in 0..screen.len() {
-                let a = screen[k];
-                let b = screen[(k + 1) % screen.len()];
-                if (a.y <= yc && yc < b.y) || (b.y <= yc && yc < a.y) {
-                    let x = a.x + (yc - a.y) * (b.x - a.x) / (b.y - a.y);
-                    xl = xl.min(x);
-                    xr = xr.max(x);
-                }
-            }
+            let (xl, xr) = (
+                std::mem::replace(&mut left[j], f64::INFINITY),
+                std::mem::replace(&mut right[j], f64::NEG_INFINITY),
+            );
             if xl >= xr {
                 continue;
             }
-            let i0 = ((xl - 0.5).ceil().max(0.0)) as usize;
-            let i1 = ((xr - 0.5).ceil().min(width as f64)).max(0.0) as usize;
-            let row_base = base + dw * j as f64;
+            let i0 = ceil_index(xl - 0.5, width);
+            let i1 = ceil_index(xr - 0.5, width);
             let off = j * width;
-            for i in i0..i1 {
-                let z = (row_base + du * i as f64) as f32;
-                let px = off + i;
-                if z > depth[px] {
-                    depth[px] = z;
-                    items[px] = item;
+            // 1/depth steps linearly along the span; single precision is ample
+            // for the depth test (the plane equation itself is in double).
+            let mut z = (base + dw * j as f64 + du * i0 as f64) as f32;
+            let dz = du as f32;
+            for (d, it) in depth[off + i0..off + i1]
+                .iter_mut()
+                .zip(&mut items[off + i0..off + i1])
+            {
+                if z > *d {
+                    *d = z;
+                    *it = item;
                 }
+                z += dz;
             }
             if i1 > i0 {
                 tested += (i1 - i0) as u64;
@@ -290,6 +325,24 @@ impl Hemicube {
             .collect();
         self.touched.clear();
         Row::from_sorted(entries)
+    }
+}
+
+/// The smallest integer at or above `x`, clamped to `0..=limit` (pixel index
+/// ranges; avoids a libm call per scanline on baseline x86-64).
+#[inline]
+fn ceil_index(x: f64, limit: usize) -> usize {
+    if !(x > 0.0) {
+        return 0;
+    }
+    if x >= limit as f64 {
+        return limit;
+    }
+    let t = x as usize;
+    if (t as f64) < x {
+        t + 1
+    } else {
+        t
     }
 }
 
