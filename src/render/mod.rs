@@ -22,8 +22,17 @@
 //! camera's vertical field of view and the *image's* aspect ratio (the camera's
 //! own `aspect`, if any, is not used: the caller chooses the image size).
 
+mod clip;
+mod depth;
+mod frame;
 mod image;
+mod raster;
+mod sample_grid;
 mod shaded_mesh;
+mod shading;
+mod view;
 
+pub use depth::DepthBuffer;
+pub use frame::{render, render_supersampled, render_with_depth};
 pub use image::HdrImage;
 pub use shaded_mesh::ShadedMesh;
