@@ -24,6 +24,8 @@
 
 mod clip;
 mod depth;
+mod false_colour;
+mod font;
 mod frame;
 mod image;
 mod lines;
@@ -31,10 +33,15 @@ mod raster;
 mod sample_grid;
 mod shaded_mesh;
 mod shading;
+mod tonemap;
 mod view;
 
 pub use depth::DepthBuffer;
+pub use false_colour::false_colour;
 pub use frame::{render, render_supersampled, render_with_depth};
 pub use image::HdrImage;
 pub use lines::{draw_segments, draw_segments_depth_tested};
 pub use shaded_mesh::ShadedMesh;
+pub use tonemap::{
+    auto_exposure, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET,
+};
