@@ -24,6 +24,7 @@
 
 mod clip;
 mod depth;
+mod diff;
 mod false_colour;
 mod font;
 mod frame;
@@ -35,8 +36,10 @@ mod shaded_mesh;
 mod shading;
 mod tonemap;
 mod view;
+mod write;
 
 pub use depth::DepthBuffer;
+pub use diff::{diff, DiffMetrics};
 pub use false_colour::false_colour;
 pub use frame::{render, render_supersampled, render_with_depth};
 pub use image::HdrImage;
@@ -45,3 +48,4 @@ pub use shaded_mesh::ShadedMesh;
 pub use tonemap::{
     auto_exposure, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET,
 };
+pub use write::{read_hdr_image, write_exr, write_hdr, write_png};
