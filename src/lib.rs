@@ -16,6 +16,7 @@
 pub mod analytic;
 pub mod error;
 pub mod math;
+pub mod render;
 pub mod scene;
 pub mod scenes;
 
