@@ -14,6 +14,7 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod gltf_io;
 pub mod math;
 pub mod scene;
 
