@@ -17,5 +17,6 @@ pub mod error;
 pub mod gltf_io;
 pub mod math;
 pub mod scene;
+pub mod scenes;
 
 pub use error::{Error, Result};
