@@ -15,6 +15,7 @@
 
 pub mod analytic;
 pub mod error;
+pub mod gltf_io;
 pub mod math;
 pub mod render;
 pub mod scene;

@@ -1,3 +1,44 @@
-//! Procedural test scenes built in code, each with the exact answer it is checked against.
+//! Built-in scenes, built in code with [`SceneBuilder`](crate::scene::SceneBuilder):
+//! the Cornell box, and penumbra scenes that come with their exact answer.
 
+mod cornell;
 pub mod penumbra;
+
+pub use cornell::cornell_box;
+
+use crate::scene::Scene;
+
+/// The names of the built-in scenes, as [`by_name`] accepts them.
+pub const NAMES: &[&str] = &[
+    "cornell_box",
+    "penumbra_parallel",
+    "penumbra_rotated",
+    "penumbra_triangle_light",
+    "penumbra_two_occluders",
+    "penumbra_narrow",
+    "penumbra_wide",
+];
+
+/// The built-in scene called `name`, if there is one.
+#[must_use]
+pub fn by_name(name: &str) -> Option<Scene> {
+    match name {
+        "cornell_box" => Some(cornell_box()),
+        // The penumbra specs are fixed and valid, so building them cannot fail.
+        _ => penumbra::by_name(name).and_then(|spec| spec.scene().ok()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_listed_name_builds() {
+        for name in NAMES {
+            assert!(by_name(name).is_some(), "{name}");
+        }
+        assert_eq!(NAMES.len(), 1 + penumbra::VARIANTS.len());
+        assert!(by_name("no_such_scene").is_none());
+    }
+}

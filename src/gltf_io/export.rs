@@ -1,0 +1,329 @@
+//! [`write_scene`]: a scene as glTF 2.0.
+
+use super::cameras::camera_rotation;
+use super::export_geometry::GeometryWriter;
+use super::precise::{array, scalar, set};
+use crate::error::{Error, Result};
+use crate::math::Rgb;
+use crate::scene::{Camera, Material, Scene};
+use gltf_json::camera::{Perspective, Type as CameraType};
+use gltf_json::extensions::material::{EmissiveStrength, EmissiveStrengthFactor};
+use gltf_json::material::{
+    EmissiveFactor, PbrBaseColorFactor, PbrMetallicRoughness, StrengthFactor,
+};
+use gltf_json::scene::UnitQuaternion;
+use gltf_json::validation::{Checked, USize64};
+use gltf_json::{Asset, Buffer, Index, Node, Root, Value};
+use std::borrow::Cow;
+use std::path::Path;
+
+const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
+
+/// Writes `scene` as glTF 2.0: a `.glb` file if the extension is `glb`, else a
+/// `.gltf` file with its one buffer embedded as a base64 data URI.
+///
+/// - One node and one mesh per [`Object`](crate::scene::Object), both named after
+///   it (an object without surfaces becomes a node without a mesh), one primitive
+///   per material the object uses. Quads are written as two triangles sharing their
+///   diagonal; no vertex is shared between surfaces, so [`load_scene`](super::load_scene)
+///   merges exactly those pairs back into the original quads. Loaded again, the
+///   surfaces come grouped by object, then by material (in order of first use
+///   within the object), otherwise in their original order.
+/// - Positions are stored as `f32` (glTF vertex data is single precision): a
+///   coordinate comes back with a relative error up to about 6e-8, so areas and
+///   normals change in the seventh or eighth digit. Accessors carry the `min`/`max`
+///   bounds glTF requires.
+/// - Materials, in the scene's order: `baseColorFactor` is the reflectance;
+///   the emitted radiance (emission / pi) is split into an `emissiveFactor` with
+///   components at most 1 and a `KHR_materials_emissive_strength` that is the
+///   largest component rounded up to a power of two, so that the division and the
+///   importer's multiplication are exact. These numbers and the camera angles and
+///   placements are written with all the digits of an `f64`, so they survive a
+///   round trip exactly. `doubleSided` is false: a double-sided scene already holds
+///   both faces as surfaces.
+/// - Each camera becomes a node with a perspective camera, placed by translation
+///   and rotation (glTF cameras look down their local -Z with +Y up).
+///
+/// # Errors
+///
+/// [`Error::Output`] for an unknown extension or a scene that glTF cannot hold
+/// (a surface referring to a missing object or material, a coordinate beyond the
+/// `f32` range); [`Error::Io`] if the file cannot be written.
+pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
+    let output_error = |message: String| Error::Output {
+        path: path.to_path_buf(),
+        message,
+    };
+    let binary = match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+    {
+        Some(e) if e == "glb" => true,
+        Some(e) if e == "gltf" => false,
+        _ => {
+            return Err(output_error(
+                "the file name must end in .gltf or .glb".to_string(),
+            ))
+        }
+    };
+    check_exportable(scene).map_err(output_error)?;
+    let mut root = Root {
+        asset: Asset {
+            copyright: None,
+            extensions: None,
+            extras: Default::default(),
+            generator: Some(format!("radiosity {}", env!("CARGO_PKG_VERSION"))),
+            min_version: None,
+            version: "2.0".to_string(),
+        },
+        ..Root::default()
+    };
+    let mut precise: Vec<(String, Value)> = Vec::new();
+    for (i, m) in scene.materials.iter().enumerate() {
+        let material = export_material(i, m, &mut precise);
+        if material.extensions.is_some()
+            && !root.extensions_used.iter().any(|e| e == EMISSIVE_STRENGTH)
+        {
+            root.extensions_used.push(EMISSIVE_STRENGTH.to_string());
+        }
+        root.materials.push(material);
+    }
+    let mut by_object: Vec<Vec<usize>> = vec![Vec::new(); scene.objects.len()];
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        by_object[surface.object as usize].push(s);
+    }
+    let mut geometry = GeometryWriter { bin: Vec::new() };
+    let mut scene_nodes = Vec::new();
+    for (o, object) in scene.objects.iter().enumerate() {
+        let mesh = geometry
+            .object_mesh(&mut root, scene, &object.name, &by_object[o])
+            .map(|m| root.push(m));
+        scene_nodes.push(root.push(Node {
+            name: Some(object.name.clone()),
+            mesh,
+            ..Node::default()
+        }));
+    }
+    let znear = (scene.diameter() * 1e-4).max(1e-6);
+    for camera in &scene.cameras {
+        scene_nodes.push(export_camera(&mut root, camera, znear, &mut precise));
+    }
+    root.scene = Some(root.push(gltf_json::Scene {
+        extensions: None,
+        extras: Default::default(),
+        name: Some(scene.name.clone()),
+        nodes: scene_nodes,
+    }));
+    let bin = geometry.bin;
+    if !bin.is_empty() {
+        root.push(Buffer {
+            byte_length: USize64(bin.len() as u64),
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            uri: (!binary).then(|| {
+                format!(
+                    "data:application/octet-stream;base64,{}",
+                    base64::encode(&bin)
+                )
+            }),
+        });
+    }
+    let mut json = root.to_value().map_err(|e| output_error(e.to_string()))?;
+    for (pointer, value) in precise {
+        set(&mut json, &pointer, value);
+    }
+    let bytes = if binary {
+        let text = serde_json::to_vec(&json).map_err(|e| output_error(e.to_string()))?;
+        let glb = gltf::Glb {
+            header: gltf::binary::Header {
+                magic: *b"glTF",
+                version: 2,
+                length: 0, // computed by the writer
+            },
+            json: Cow::Owned(text),
+            bin: (!bin.is_empty()).then_some(Cow::Owned(bin)),
+        };
+        glb.to_vec().map_err(|e| output_error(e.to_string()))?
+    } else {
+        let mut text = serde_json::to_vec_pretty(&json).map_err(|e| output_error(e.to_string()))?;
+        text.push(b'\n');
+        text
+    };
+    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+}
+
+/// Refuses what glTF cannot hold, before anything is built.
+fn check_exportable(scene: &Scene) -> std::result::Result<(), String> {
+    for (k, s) in scene.surfaces.iter().enumerate() {
+        if s.object as usize >= scene.objects.len() {
+            return Err(format!(
+                "surface {k} refers to object {}, but the scene has {}",
+                s.object,
+                scene.objects.len()
+            ));
+        }
+        if s.material as usize >= scene.materials.len() {
+            return Err(format!(
+                "surface {k} refers to material {}, but the scene has {}",
+                s.material,
+                scene.materials.len()
+            ));
+        }
+        let in_f32 = |v: f64| v.is_finite() && (v as f32).is_finite();
+        if s.vertices
+            .iter()
+            .any(|v| !(in_f32(v.x) && in_f32(v.y) && in_f32(v.z)))
+        {
+            return Err(format!(
+                "surface {k} has a coordinate beyond single precision"
+            ));
+        }
+    }
+    for m in &scene.materials {
+        m.validate().map_err(|e| e.to_string())?;
+    }
+    for c in &scene.cameras {
+        let frame_ok = c.position.is_finite()
+            && c.forward.is_finite()
+            && c.up.is_finite()
+            && c.forward.cross(c.up).length_squared() > 0.0;
+        let lens_ok = c.yfov > 0.0
+            && c.yfov < std::f64::consts::PI
+            && !matches!(c.aspect, Some(a) if !(a.is_finite() && a > 0.0));
+        if !(frame_ok && lens_ok) {
+            return Err(format!(
+                "camera '{}' has no usable position, orientation or field of view",
+                c.name
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The emissive factor (components at most 1) and strength whose product is
+/// exactly `radiance`: the strength is 1, or the largest component rounded up to a
+/// power of two (dividing by a power of two loses nothing).
+pub(super) fn emissive_split(radiance: Rgb) -> (Rgb, f64) {
+    let max = radiance.max_band();
+    let needs_strength = max.is_finite() && max > 1.0;
+    if !needs_strength {
+        return (radiance, 1.0);
+    }
+    let mut strength = 1.0_f64;
+    while strength < max {
+        strength *= 2.0;
+    }
+    (radiance / strength, strength)
+}
+
+fn export_material(
+    i: usize,
+    m: &Material,
+    precise: &mut Vec<(String, Value)>,
+) -> gltf_json::Material {
+    let radiance = m.emission / std::f64::consts::PI;
+    let (factor, strength) = emissive_split(radiance);
+    let base = format!("/materials/{i}");
+    let rho = m.reflectance.0;
+    precise.push((
+        format!("{base}/pbrMetallicRoughness/baseColorFactor"),
+        array(&[rho[0], rho[1], rho[2], 1.0]),
+    ));
+    precise.push((format!("{base}/emissiveFactor"), array(&factor.0)));
+    let extensions = (strength != 1.0).then(|| {
+        precise.push((
+            format!("{base}/extensions/{EMISSIVE_STRENGTH}/emissiveStrength"),
+            scalar(strength),
+        ));
+        gltf_json::extensions::material::Material {
+            emissive_strength: Some(EmissiveStrength {
+                emissive_strength: EmissiveStrengthFactor(strength as f32),
+            }),
+            ..Default::default()
+        }
+    });
+    gltf_json::Material {
+        name: Some(m.name.clone()),
+        pbr_metallic_roughness: PbrMetallicRoughness {
+            base_color_factor: PbrBaseColorFactor([
+                rho[0] as f32,
+                rho[1] as f32,
+                rho[2] as f32,
+                1.0,
+            ]),
+            // A rough dielectric: the closest glTF has to a Lambertian surface.
+            metallic_factor: StrengthFactor(0.0),
+            roughness_factor: StrengthFactor(1.0),
+            ..Default::default()
+        },
+        emissive_factor: EmissiveFactor(factor.to_f32()),
+        double_sided: false,
+        extensions,
+        ..Default::default()
+    }
+}
+
+fn export_camera(
+    root: &mut Root,
+    camera: &Camera,
+    znear: f64,
+    precise: &mut Vec<(String, Value)>,
+) -> Index<Node> {
+    let index = root.push(gltf_json::Camera {
+        name: Some(camera.name.clone()),
+        orthographic: None,
+        perspective: Some(Perspective {
+            aspect_ratio: camera.aspect.map(|a| a as f32),
+            yfov: camera.yfov as f32,
+            zfar: None,
+            znear: znear as f32,
+            extensions: None,
+            extras: Default::default(),
+        }),
+        type_: Checked::Valid(CameraType::Perspective),
+        extensions: None,
+        extras: Default::default(),
+    });
+    let c = index.value();
+    precise.push((
+        format!("/cameras/{c}/perspective/yfov"),
+        scalar(camera.yfov),
+    ));
+    if let Some(a) = camera.aspect {
+        precise.push((format!("/cameras/{c}/perspective/aspectRatio"), scalar(a)));
+    }
+    let rotation = camera_rotation(camera);
+    let p = camera.position;
+    let node = root.push(Node {
+        name: Some(camera.name.clone()),
+        camera: Some(index),
+        translation: Some([p.x as f32, p.y as f32, p.z as f32]),
+        rotation: Some(UnitQuaternion(rotation.as_quat().to_array())),
+        ..Node::default()
+    });
+    let n = node.value();
+    precise.push((format!("/nodes/{n}/translation"), array(&p.to_array())));
+    precise.push((format!("/nodes/{n}/rotation"), array(&rotation.to_array())));
+    node
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn emissive_split_is_exact_and_bounded() {
+        for r in [
+            Rgb::new(17.0, 12.0, 4.0),
+            Rgb::new(0.3, 0.7, 1.0),
+            Rgb::new(1.0 / 3.0, 100.0 / 7.0, 0.0),
+            Rgb::new(1e6 / 49.0, 2.5, 1e-9),
+        ] {
+            let (f, s) = emissive_split(r);
+            assert!(f.max_band() <= 1.0 && f.min_band() >= 0.0, "{f:?}");
+            assert_eq!((f * s).0, r.0);
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! [`load_scene`]: the import pipeline, stage by stage.
+
+use super::buffers::load_buffers;
+use super::cameras::import_camera;
+use super::container::{read_limited, split};
+use super::document::parse;
+use super::limits::ImportLimits;
+use super::materials::convert_materials;
+use super::meshes::{add_mesh_instance, Decoded, Source};
+use super::nodes::walk;
+use crate::error::{Error, Result};
+use crate::scene::Scene;
+use std::path::Path;
+
+/// Loads a `.gltf` or `.glb` file as a [`Scene`] named after the file's stem.
+///
+/// - The default scene (else the first, else every parentless node) is walked with
+///   node transforms (matrix or translation/rotation/scale) composed in `f64`.
+/// - Each node with a mesh becomes one [`Object`](crate::scene::Object), named after
+///   the node, else the mesh, else `node N`. Triangles of every triangle-mode primitive
+///   (indexed or not; lists, strips and fans) become surfaces; coplanar pairs that form
+///   a strictly convex quad are merged into one quad surface; degenerate triangles are
+///   skipped. Points and lines are skipped with a warning. Everything skipped is
+///   counted in [`Scene::import_stats`] and explained in [`Scene::warnings`].
+/// - Material `i` of the file is scene material `i` (see the [module docs](super)
+///   for the conversion); primitives without one get a default grey (0.8) appended
+///   last. A `doubleSided` material's surfaces are added twice, back to back.
+/// - Perspective cameras are imported; orthographic ones are skipped with a warning.
+///
+/// # Errors
+///
+/// [`Error::Io`] if the file cannot be read; [`Error::Gltf`] naming the file and
+/// the mesh, material, accessor or buffer for anything malformed (not glTF at all,
+/// invalid JSON, a buffer URI outside the file's folder, data out of range,
+/// non-finite positions, a reflectance above 1); [`Error::Limit`] when the file
+/// exceeds `limits`; [`Error::Geometry`] naming the file when it has no usable
+/// surface. Never panics, whatever the input.
+pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
+    let bytes = read_limited(path, limits)?;
+    let container = split(path, bytes)?;
+    let mut scene = Scene {
+        name: path
+            .file_stem()
+            .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned()),
+        ..Scene::default()
+    };
+    let doc = parse(path, &container.json, &mut scene.warnings)?;
+    let buffers = load_buffers(path, &doc, container.bin, limits)?;
+    scene.materials = convert_materials(path, &doc, &buffers, limits, &mut scene.warnings)?;
+    let source = Source {
+        path,
+        doc: &doc,
+        buffers: &buffers,
+        limits,
+    };
+    let mut default_material = None;
+    let mut decoded = Decoded::default();
+    for placed in walk(path, &doc, limits)? {
+        let node = &doc.root.nodes[placed.node];
+        if let Some(camera) = node.camera {
+            match import_camera(&doc, camera.value(), placed.node, &placed.world) {
+                Ok(c) => scene.cameras.push(c),
+                Err(warning) => scene.warnings.push(warning),
+            }
+        }
+        if let Some(mesh) = node.mesh {
+            add_mesh_instance(
+                &source,
+                &placed,
+                mesh.value(),
+                &mut scene,
+                &mut default_material,
+                &mut decoded,
+            )?;
+        }
+    }
+    if scene.surfaces.is_empty() {
+        return Err(Error::Geometry(format!(
+            "{}: the scene has no surfaces (no usable triangles in any mesh of the scene's nodes)",
+            path.display()
+        )));
+    }
+    Ok(scene)
+}

@@ -1,0 +1,59 @@
+//! glTF 2.0 import and export.
+//!
+//! - [`load_scene`] reads a `.gltf` file (buffers embedded as base64 data URIs or in
+//!   external `.bin` files beside it) or a `.glb` file into a [`Scene`](crate::scene::Scene):
+//!   every triangle of every mesh instance in the default scene, with node transforms
+//!   applied in double precision, coplanar triangle pairs merged back into quads,
+//!   materials turned into diffuse reflectance and emission, and perspective cameras.
+//!   Hostile or broken files give a typed [`Error`] naming the file and
+//!   the mesh, material, accessor or buffer at fault; counts are checked against
+//!   [`ImportLimits`] before anything is allocated.
+//! - [`write_scene`] writes a scene back as glTF 2.0 so that loading the file again
+//!   gives the same surfaces (within single precision), materials, objects and cameras.
+//!
+//! Conventions (see the project's design notes): glTF units are metres; the emitted
+//! radiance is `emissiveFactor * KHR_materials_emissive_strength`, the emitted exitance
+//! is pi times that; the reflectance is `baseColorFactor` (times the mean colour of a
+//! base colour texture, when it can be decoded).
+
+mod accessors;
+mod buffers;
+mod cameras;
+mod container;
+mod document;
+mod export;
+mod export_geometry;
+mod import;
+mod limits;
+mod materials;
+mod meshes;
+mod nodes;
+mod precise;
+mod primitives;
+mod quad_merge;
+mod textures;
+mod uri;
+
+pub use export::write_scene;
+pub use import::load_scene;
+pub use limits::ImportLimits;
+
+use crate::error::Error;
+use std::path::Path;
+
+/// An [`Error::Gltf`] for the scene file `path`.
+fn gltf_error(path: &Path, message: impl Into<String>) -> Error {
+    Error::Gltf {
+        path: path.to_path_buf(),
+        message: message.into(),
+    }
+}
+
+/// How a glTF object is named in messages: `kind index ('name')`, or without the
+/// name when it has none.
+fn describe(kind: &str, index: usize, name: Option<&str>) -> String {
+    match name {
+        Some(n) if !n.is_empty() => format!("{kind} {index} ('{n}')"),
+        _ => format!("{kind} {index}"),
+    }
+}

@@ -1,0 +1,1002 @@
+//! glTF import: geometry, transforms, primitive modes, quad merging, materials,
+//! cameras, and an error (never a panic) for every kind of bad input. Test files are
+//! built in code and written under the target directory.
+
+use glam::DVec3;
+use radiosity::gltf_io::{load_scene, ImportLimits};
+use radiosity::scene::Scene;
+use radiosity::Error;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+// ---------------------------------------------------------------------------
+// Building test files
+// ---------------------------------------------------------------------------
+
+fn dir() -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gltf_import");
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Binary data plus the buffer views and accessors that describe it.
+#[derive(Default)]
+struct Bin {
+    bytes: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Bin {
+    fn view(&mut self, data: &[u8]) -> usize {
+        while self.bytes.len() % 4 != 0 {
+            self.bytes.push(0);
+        }
+        let offset = self.bytes.len();
+        self.bytes.extend_from_slice(data);
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len()}));
+        self.views.len() - 1
+    }
+
+    fn positions(&mut self, p: &[[f32; 3]]) -> usize {
+        let data: Vec<u8> = p.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+        let view = self.view(&data);
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        for v in p {
+            for k in 0..3 {
+                lo[k] = lo[k].min(v[k]);
+                hi[k] = hi[k].max(v[k]);
+            }
+        }
+        self.accessors.push(json!({
+            "bufferView": view, "componentType": 5126, "count": p.len(), "type": "VEC3",
+            "min": lo, "max": hi
+        }));
+        self.accessors.len() - 1
+    }
+
+    fn indices(&mut self, ix: &[u32]) -> usize {
+        let data: Vec<u8> = ix.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let view = self.view(&data);
+        self.accessors.push(json!({
+            "bufferView": view, "componentType": 5125, "count": ix.len(), "type": "SCALAR"
+        }));
+        self.accessors.len() - 1
+    }
+
+    /// A complete document: `rest` supplies meshes, nodes, scenes, materials...
+    fn document(self, rest: Value) -> Value {
+        let mut doc = json!({
+            "asset": {"version": "2.0"},
+            "buffers": [{
+                "byteLength": self.bytes.len(),
+                "uri": format!("data:application/octet-stream;base64,{}", base64::encode(&self.bytes))
+            }],
+            "bufferViews": self.views,
+            "accessors": self.accessors,
+        });
+        for (k, v) in rest.as_object().expect("object").clone() {
+            doc[k] = v;
+        }
+        doc
+    }
+}
+
+fn write(name: &str, doc: &Value) -> PathBuf {
+    let path = dir().join(name);
+    std::fs::write(&path, serde_json::to_vec_pretty(doc).unwrap()).unwrap();
+    path
+}
+
+fn load(path: &Path) -> radiosity::Result<Scene> {
+    load_scene(path, &ImportLimits::default())
+}
+
+/// One mesh of one primitive on one node.
+fn one_primitive(p: &[[f32; 3]], indices: Option<&[u32]>, mode: u32) -> Value {
+    let mut bin = Bin::default();
+    let pos = bin.positions(p);
+    let mut prim = json!({"attributes": {"POSITION": pos}, "mode": mode, "material": 0});
+    if let Some(ix) = indices {
+        prim["indices"] = json!(bin.indices(ix));
+    }
+    bin.document(json!({
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "meshes": [{"name": "m", "primitives": [prim]}],
+        "nodes": [{"name": "n", "mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    }))
+}
+
+/// A binary glTF container around `json` and `bin`.
+fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let mut out = b"glTF".to_vec();
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&0u32.to_le_bytes());
+    for (kind, data, pad) in [(b"JSON", json, b' '), (b"BIN\0", bin, 0u8)] {
+        let padded = (data.len() + 3) & !3;
+        out.extend_from_slice(&(padded as u32).to_le_bytes());
+        out.extend_from_slice(kind);
+        out.extend_from_slice(data);
+        out.resize(out.len() + padded - data.len(), pad);
+    }
+    let total = out.len() as u32;
+    out[8..12].copy_from_slice(&total.to_le_bytes());
+    out
+}
+
+fn vertices(scene: &Scene) -> Vec<Vec<DVec3>> {
+    scene.surfaces.iter().map(|s| s.vertices.to_vec()).collect()
+}
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+fn assert_close(a: DVec3, b: DVec3, tol: f64) {
+    assert!((a - b).length() <= tol, "{a} != {b}");
+}
+
+/// The error for `path`, whose message must name the file and `expected`.
+fn error_naming(path: &Path, expected: &str) -> Error {
+    let e = load(path).expect_err("bad input must be an error");
+    let text = e.to_string();
+    let file = path.file_name().unwrap().to_string_lossy();
+    assert!(
+        text.contains(&*file),
+        "message does not name the file: {text}"
+    );
+    assert!(
+        text.contains(expected),
+        "message does not say '{expected}': {text}"
+    );
+    e
+}
+
+// ---------------------------------------------------------------------------
+// The Cornell box file
+// ---------------------------------------------------------------------------
+
+/// Twice the area vector of a polygon (Newell), in the test's own words.
+fn area_mm2(p: &[[f64; 3]]) -> f64 {
+    let mut n = [0.0; 3];
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
+        n[0] += a[1] * b[2] - a[2] * b[1];
+        n[1] += a[2] * b[0] - a[0] * b[2];
+        n[2] += a[0] * b[1] - a[1] * b[0];
+    }
+    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+}
+
+/// A non-planar quad as two triangles split along the shorter diagonal.
+fn split_area_mm2(q: &[[f64; 3]; 4]) -> f64 {
+    let d = |a: [f64; 3], b: [f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    if d(q[0], q[2]) <= d(q[1], q[3]) {
+        area_mm2(&[q[0], q[1], q[2]]) + area_mm2(&[q[0], q[2], q[3]])
+    } else {
+        area_mm2(&[q[0], q[1], q[3]]) + area_mm2(&[q[1], q[2], q[3]])
+    }
+}
+
+#[test]
+fn cornell_box_file_has_the_published_areas() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell_box.gltf");
+    let scene = load(&path).expect("the committed Cornell box loads");
+    // Published vertex table (millimetres), as in the Cornell data page.
+    let ceiling = [
+        [556.0, 548.8, 0.0],
+        [556.0, 548.8, 559.2],
+        [0.0, 548.8, 559.2],
+        [0.0, 548.8, 0.0],
+    ];
+    let back = [
+        [549.6, 0.0, 559.2],
+        [0.0, 0.0, 559.2],
+        [0.0, 548.8, 559.2],
+        [556.0, 548.8, 559.2],
+    ];
+    let right = [
+        [0.0, 0.0, 559.2],
+        [0.0, 0.0, 0.0],
+        [0.0, 548.8, 0.0],
+        [0.0, 548.8, 559.2],
+    ];
+    let left = [
+        [552.8, 0.0, 0.0],
+        [549.6, 0.0, 559.2],
+        [556.0, 548.8, 559.2],
+        [556.0, 548.8, 0.0],
+    ];
+    let short_block: [[[f64; 3]; 4]; 5] = [
+        [
+            [130.0, 165.0, 65.0],
+            [82.0, 165.0, 225.0],
+            [240.0, 165.0, 272.0],
+            [290.0, 165.0, 114.0],
+        ],
+        [
+            [290.0, 0.0, 114.0],
+            [290.0, 165.0, 114.0],
+            [240.0, 165.0, 272.0],
+            [240.0, 0.0, 272.0],
+        ],
+        [
+            [130.0, 0.0, 65.0],
+            [130.0, 165.0, 65.0],
+            [290.0, 165.0, 114.0],
+            [290.0, 0.0, 114.0],
+        ],
+        [
+            [82.0, 0.0, 225.0],
+            [82.0, 165.0, 225.0],
+            [130.0, 165.0, 65.0],
+            [130.0, 0.0, 65.0],
+        ],
+        [
+            [240.0, 0.0, 272.0],
+            [240.0, 165.0, 272.0],
+            [82.0, 165.0, 225.0],
+            [82.0, 0.0, 225.0],
+        ],
+    ];
+    let tall_block: [[[f64; 3]; 4]; 5] = [
+        [
+            [423.0, 330.0, 247.0],
+            [265.0, 330.0, 296.0],
+            [314.0, 330.0, 456.0],
+            [472.0, 330.0, 406.0],
+        ],
+        [
+            [423.0, 0.0, 247.0],
+            [423.0, 330.0, 247.0],
+            [472.0, 330.0, 406.0],
+            [472.0, 0.0, 406.0],
+        ],
+        [
+            [472.0, 0.0, 406.0],
+            [472.0, 330.0, 406.0],
+            [314.0, 330.0, 456.0],
+            [314.0, 0.0, 456.0],
+        ],
+        [
+            [314.0, 0.0, 456.0],
+            [314.0, 330.0, 456.0],
+            [265.0, 330.0, 296.0],
+            [265.0, 0.0, 296.0],
+        ],
+        [
+            [265.0, 0.0, 296.0],
+            [265.0, 330.0, 296.0],
+            [423.0, 330.0, 247.0],
+            [423.0, 0.0, 247.0],
+        ],
+    ];
+    let expected_mm2 = [
+        // Floor: a trapezoid with parallel sides 552.8 (z = 0) and 549.6 (z = 559.2),
+        // 559.2 apart: (552.8 + 549.6) / 2 * 559.2 = 308231.04 mm^2.
+        ("floor", 308_231.04),
+        ("ceiling", area_mm2(&ceiling)),
+        ("back_wall", area_mm2(&back)),
+        ("left_wall", split_area_mm2(&left)),
+        ("right_wall", area_mm2(&right)),
+        // Light: 130 x 105 mm.
+        ("light", 13_650.0),
+        ("short_block", short_block.iter().map(|q| area_mm2(q)).sum()),
+        ("tall_block", tall_block.iter().map(|q| area_mm2(q)).sum()),
+    ];
+    assert_eq!(scene.objects.len(), expected_mm2.len());
+    for (name, mm2) in expected_mm2 {
+        let o = scene
+            .objects
+            .iter()
+            .position(|o| o.name == name)
+            .unwrap_or_else(|| panic!("no {name}")) as u32;
+        let area: f64 = scene
+            .surfaces
+            .iter()
+            .filter(|s| s.object == o)
+            .map(|s| s.area)
+            .sum();
+        let expected = mm2 * 1e-6;
+        // Vertices are stored as f32: relative error well under 1e-6.
+        assert!(
+            (area - expected).abs() <= 1e-6 * expected,
+            "{name}: {area} vs {expected} m^2"
+        );
+    }
+    // Every published quad except the warped red wall comes back as one quad.
+    assert_eq!(scene.import_stats.merged_quads, 15);
+    assert_eq!(scene.surfaces.len(), 17);
+    assert_eq!(scene.name, "cornell_box");
+    assert_eq!(scene.cameras.len(), 1);
+}
+
+// ---------------------------------------------------------------------------
+// Transforms
+// ---------------------------------------------------------------------------
+
+const UNIT_TRIANGLE: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
+fn with_nodes(nodes: Value, scene_roots: Value) -> Value {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["nodes"] = nodes;
+    doc["scenes"] = json!([{"nodes": scene_roots}]);
+    doc
+}
+
+#[test]
+fn translation_rotation_and_non_uniform_scale_compose_down_a_parent_chain() {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    // Parent: rotate 90 degrees about +Z ((x, y, z) -> (-y, x, z)), then move by (1, 2, 3).
+    // Child: scale (2, 3, 4), then move by (0.5, 0, 0).
+    let doc = with_nodes(
+        json!([
+            {"name": "parent", "translation": [1.0, 2.0, 3.0], "rotation": [0.0, 0.0, h, h], "children": [1]},
+            {"name": "child", "mesh": 0, "scale": [2.0, 3.0, 4.0], "translation": [0.5, 0.0, 0.0]}
+        ]),
+        json!([0]),
+    );
+    let scene = load(&write("trs.gltf", &doc)).unwrap();
+    // (1,0,0) -> child (2.5,0,0) -> rotated (0,2.5,0) -> (1,4.5,3)
+    // (0,1,0) -> child (0.5,3,0) -> rotated (-3,0.5,0) -> (-2,2.5,3)
+    // (0,0,1) -> child (0.5,0,4) -> rotated (0,0.5,4) -> (1,2.5,7)
+    let got = vertices(&scene);
+    assert_eq!(got.len(), 1);
+    let expected = [v(1.0, 4.5, 3.0), v(-2.0, 2.5, 3.0), v(1.0, 2.5, 7.0)];
+    for (a, b) in got[0].iter().zip(expected) {
+        assert_close(*a, b, 1e-12);
+    }
+    assert_eq!(scene.objects[0].name, "child");
+}
+
+#[test]
+fn a_matrix_transform_is_column_major() {
+    // Rows: [2 0 0 5], [0 1 1 0], [0 0 3 -1], [0 0 0 1].
+    let doc = with_nodes(
+        json!([{"mesh": 0, "matrix": [2.0, 0.0, 0.0, 0.0,  0.0, 1.0, 0.0, 0.0,  0.0, 1.0, 3.0, 0.0,  5.0, 0.0, -1.0, 1.0]}]),
+        json!([0]),
+    );
+    let scene = load(&write("matrix.gltf", &doc)).unwrap();
+    // (1,0,0) -> (7,0,-1); (0,1,0) -> (5,1,-1); (0,0,1) -> (5,1,2).
+    assert_eq!(
+        vertices(&scene),
+        vec![vec![v(7.0, 0.0, -1.0), v(5.0, 1.0, -1.0), v(5.0, 1.0, 2.0)]]
+    );
+    // Unnamed node: the mesh's name.
+    assert_eq!(scene.objects[0].name, "m");
+}
+
+#[test]
+fn a_mirroring_transform_keeps_the_front_face_in_front() {
+    let doc = with_nodes(json!([{"mesh": 0, "scale": [-1.0, 1.0, 1.0]}]), json!([0]));
+    let scene = load(&write("mirror.gltf", &doc)).unwrap();
+    // The unit triangle's front normal (1,1,1)/sqrt3 mirrored in x is (-1,1,1)/sqrt3.
+    assert_close(
+        scene.surfaces[0].normal,
+        v(-1.0, 1.0, 1.0) / 3f64.sqrt(),
+        1e-15,
+    );
+}
+
+#[test]
+fn nodes_without_a_scene_are_read_from_their_roots() {
+    let mut doc = with_nodes(
+        json!([{"children": [1]}, {"mesh": 0, "translation": [0.0, 0.0, 1.0]}]),
+        json!([0]),
+    );
+    doc.as_object_mut().unwrap().remove("scenes");
+    doc.as_object_mut().unwrap().remove("scene");
+    let scene = load(&write("no_scene.gltf", &doc)).unwrap();
+    assert_eq!(scene.surfaces.len(), 1);
+    assert_eq!(scene.surfaces[0].vertices[2], v(0.0, 0.0, 2.0));
+    assert_eq!(scene.objects[0].name, "m");
+}
+
+#[test]
+fn a_node_reached_twice_or_nested_too_deep_is_an_error() {
+    let cyclic = with_nodes(
+        json!([{"children": [1]}, {"mesh": 0, "children": [0]}]),
+        json!([0]),
+    );
+    error_naming(&write("cycle.gltf", &cyclic), "reached twice");
+    let chain: Vec<Value> = (0..10)
+        .map(|i| {
+            if i < 9 {
+                json!({"children": [i + 1]})
+            } else {
+                json!({"mesh": 0})
+            }
+        })
+        .collect();
+    let deep = write("deep.gltf", &with_nodes(json!(chain), json!([0])));
+    assert!(load(&deep).is_ok());
+    let shallow = ImportLimits {
+        max_node_depth: 5,
+        ..ImportLimits::default()
+    };
+    assert!(matches!(load_scene(&deep, &shallow), Err(Error::Limit(_))));
+}
+
+// ---------------------------------------------------------------------------
+// Primitive modes and quad merging
+// ---------------------------------------------------------------------------
+
+#[test]
+fn strips_give_the_specified_triangles() {
+    // Not coplanar, so no pair merges.
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 2.0, 0.0],
+    ];
+    let scene = load(&write("strip.gltf", &one_primitive(&p, None, 5))).unwrap();
+    let q = |i: usize| v(p[i][0] as f64, p[i][1] as f64, p[i][2] as f64);
+    // glTF: triangle i is (i, i+1+i%2, i+2-i%2).
+    assert_eq!(
+        vertices(&scene),
+        vec![
+            vec![q(0), q(1), q(2)],
+            vec![q(1), q(3), q(2)],
+            vec![q(2), q(3), q(4)]
+        ]
+    );
+    assert_eq!(scene.import_stats.triangles_read, 3);
+    assert_eq!(scene.import_stats.merged_quads, 0);
+}
+
+#[test]
+fn fans_give_the_specified_triangles() {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [-1.0, 0.0, 1.0],
+        [0.0, -1.0, 0.5],
+    ];
+    let scene = load(&write("fan.gltf", &one_primitive(&p, None, 6))).unwrap();
+    let q = |i: usize| v(p[i][0] as f64, p[i][1] as f64, p[i][2] as f64);
+    // glTF: triangle i is (i+1, i+2, 0).
+    assert_eq!(
+        vertices(&scene),
+        vec![
+            vec![q(1), q(2), q(0)],
+            vec![q(2), q(3), q(0)],
+            vec![q(3), q(4), q(0)]
+        ]
+    );
+}
+
+#[test]
+fn indexed_and_non_indexed_strips_agree() {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0],
+        [0.0, 2.0, 0.0],
+    ];
+    let plain = load(&write("strip_plain.gltf", &one_primitive(&p, None, 5))).unwrap();
+    // The same vertices shuffled, addressed through indices.
+    let shuffled = [p[3], p[0], p[4], p[2], p[1]];
+    let indexed = load(&write(
+        "strip_indexed.gltf",
+        &one_primitive(&shuffled, Some(&[1, 4, 3, 0, 2]), 5),
+    ))
+    .unwrap();
+    assert_eq!(vertices(&plain), vertices(&indexed));
+    // And as a triangle list.
+    let list = load(&write(
+        "strip_list.gltf",
+        &one_primitive(&p, Some(&[0, 1, 2, 1, 3, 2, 2, 3, 4]), 4),
+    ))
+    .unwrap();
+    assert_eq!(vertices(&plain), vertices(&list));
+}
+
+#[test]
+fn a_two_triangle_square_merges_into_one_quad() {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [0.0, 2.0, 0.0],
+    ];
+    for (name, doc) in [
+        (
+            "square_indexed.gltf",
+            one_primitive(&p, Some(&[0, 1, 2, 0, 2, 3]), 4),
+        ),
+        (
+            "square_plain.gltf",
+            one_primitive(&[p[0], p[1], p[2], p[0], p[2], p[3]], None, 4),
+        ),
+    ] {
+        let scene = load(&write(name, &doc)).unwrap();
+        assert_eq!(scene.surfaces.len(), 1, "{name}");
+        assert!(scene.surfaces[0].is_quad());
+        assert_eq!(scene.surfaces[0].area, 4.0);
+        assert_eq!(scene.surfaces[0].normal, DVec3::Z);
+        assert_eq!(scene.import_stats.merged_quads, 1);
+        assert_eq!(scene.import_stats.triangles_read, 2);
+    }
+}
+
+#[test]
+fn a_non_convex_or_folded_pair_does_not_merge() {
+    // A dart: (0,0) (1,0) (0.9,0.1) (1,1) is concave at (0.9,0.1).
+    let dart = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.9, 0.1, 0.0],
+    ];
+    let scene = load(&write(
+        "dart.gltf",
+        &one_primitive(&dart, Some(&[0, 3, 2, 0, 1, 3]), 4),
+    ))
+    .unwrap();
+    assert_eq!(scene.surfaces.len(), 2);
+    assert_eq!(scene.import_stats.merged_quads, 0);
+    // Folded along the diagonal by a tiny 1e-4 (relative) out of plane.
+    let fold = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 1e-4],
+    ];
+    let scene = load(&write(
+        "fold.gltf",
+        &one_primitive(&fold, Some(&[0, 1, 2, 0, 2, 3]), 4),
+    ))
+    .unwrap();
+    assert_eq!(scene.surfaces.len(), 2);
+}
+
+#[test]
+fn points_and_lines_are_skipped_and_counted() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    let triangles = doc["meshes"][0]["primitives"][0].clone();
+    let mut lines = triangles.clone();
+    lines["mode"] = json!(1);
+    let mut points = triangles.clone();
+    points["mode"] = json!(0);
+    doc["meshes"][0]["primitives"] = json!([lines, triangles, points]);
+    let scene = load(&write("lines.gltf", &doc)).unwrap();
+    assert_eq!(scene.surfaces.len(), 1);
+    assert_eq!(scene.import_stats.skipped_primitives, 2);
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("Lines") && w.contains("skipped")),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+#[test]
+fn degenerate_triangles_are_skipped_and_counted() {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        // Collinear, and one with a repeated vertex.
+        [0.0, 0.0, 0.0],
+        [1.0, 1.0, 1.0],
+        [2.0, 2.0, 2.0],
+        [5.0, 0.0, 0.0],
+        [5.0, 0.0, 0.0],
+        [6.0, 1.0, 0.0],
+    ];
+    let scene = load(&write("degenerate.gltf", &one_primitive(&p, None, 4))).unwrap();
+    assert_eq!(scene.surfaces.len(), 1);
+    assert_eq!(scene.import_stats.degenerate_triangles, 2);
+    assert_eq!(scene.import_stats.triangles_read, 3);
+}
+
+#[test]
+fn a_file_with_too_many_triangles_hits_the_limit() {
+    let path = write(
+        "limit.gltf",
+        &one_primitive(
+            &[
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 1.0, 1.0],
+            ],
+            None,
+            5,
+        ),
+    );
+    let limits = ImportLimits {
+        max_triangles: 1,
+        ..ImportLimits::default()
+    };
+    assert!(matches!(load_scene(&path, &limits), Err(Error::Limit(_))));
+}
+
+// ---------------------------------------------------------------------------
+// Materials, objects, cameras
+// ---------------------------------------------------------------------------
+
+#[test]
+fn materials_give_reflectance_emission_and_double_sided_surfaces() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["materials"] = json!([{
+        "name": "lamp",
+        "doubleSided": true,
+        "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 0.3]},
+        "emissiveFactor": [1.0, 0.5, 0.25],
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}}
+    }]);
+    doc["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    let scene = load(&write("lamp.gltf", &doc)).unwrap();
+    let m = &scene.materials[0];
+    assert_eq!(m.name, "lamp");
+    assert_eq!(m.reflectance.0, [0.25, 0.5, 0.75]);
+    let pi = std::f64::consts::PI;
+    assert_eq!(m.emission.0, [8.0 * pi, 4.0 * pi, 2.0 * pi]);
+    assert!(m.double_sided);
+    assert_eq!(scene.surfaces.len(), 2);
+    assert_eq!(scene.surfaces[1].normal, -scene.surfaces[0].normal);
+    assert_eq!(scene.surfaces[1].area, scene.surfaces[0].area);
+}
+
+#[test]
+fn a_primitive_without_material_gets_default_grey_with_a_warning() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["meshes"][0]["primitives"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("material");
+    let scene = load(&write("no_material.gltf", &doc)).unwrap();
+    let m = scene.material_of(&scene.surfaces[0]);
+    assert_eq!(m.reflectance.0, [0.8; 3]);
+    assert!(!m.is_emitter());
+    assert!(scene.warnings.iter().any(|w| w.contains("no material")));
+}
+
+#[test]
+fn a_base_colour_texture_multiplies_by_its_mean_or_is_ignored_with_a_warning() {
+    // A 1x1 PNG of sRGB (255, 255, 0): linear mean (1, 1, 0).
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::RgbImage::from_raw(1, 1, vec![255, 255, 0])
+        .unwrap()
+        .write_to(&mut png, image::ImageFormat::Png)
+        .unwrap();
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["images"] =
+        json!([{"uri": format!("data:image/png;base64,{}", base64::encode(png.get_ref()))}]);
+    doc["textures"] = json!([{"source": 0}]);
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json!({"index": 0});
+    let scene = load(&write("textured.gltf", &doc)).unwrap();
+    assert_eq!(scene.materials[0].reflectance.0, [0.5, 0.5, 0.0]);
+    doc["images"] = json!([{"uri": "data:image/png;base64,AAAA"}]);
+    let scene = load(&write("bad_texture.gltf", &doc)).unwrap();
+    assert_eq!(scene.materials[0].reflectance.0, [0.5; 3]);
+    assert!(
+        scene.warnings.iter().any(|w| w.contains("texture ignored")),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+#[test]
+fn objects_are_named_after_node_then_mesh_then_index() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["meshes"] =
+        json!([doc["meshes"][0].clone(), {"primitives": doc["meshes"][0]["primitives"].clone()}]);
+    doc["nodes"] = json!([
+        {"name": "named_node", "mesh": 0},
+        {"mesh": 0, "translation": [0.0, 0.0, 1.0]},
+        {"mesh": 1, "translation": [0.0, 0.0, 2.0]}
+    ]);
+    doc["scenes"] = json!([{"nodes": [0, 1, 2]}]);
+    let scene = load(&write("names.gltf", &doc)).unwrap();
+    let names: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(names, ["named_node", "m", "node 2"]);
+    let objects: Vec<u32> = scene.surfaces.iter().map(|s| s.object).collect();
+    assert_eq!(objects, [0, 1, 2]);
+}
+
+#[test]
+fn perspective_cameras_are_placed_by_their_node_and_orthographic_ones_skipped() {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["cameras"] = json!([
+        {"name": "persp", "type": "perspective", "perspective": {"yfov": 0.7, "aspectRatio": 1.5, "znear": 0.01}},
+        {"type": "orthographic", "orthographic": {"xmag": 1.0, "ymag": 1.0, "znear": 0.01, "zfar": 10.0}}
+    ]);
+    // Rotation of 90 degrees about +Y maps (x, y, z) to (z, y, -x): local -Z looks along -X.
+    doc["nodes"] = json!([
+        {"mesh": 0},
+        {"camera": 0, "translation": [4.0, 5.0, 6.0], "rotation": [0.0, h, 0.0, h]},
+        {"camera": 1}
+    ]);
+    doc["scenes"] = json!([{"nodes": [0, 1, 2]}]);
+    let scene = load(&write("cameras.gltf", &doc)).unwrap();
+    assert_eq!(scene.cameras.len(), 1);
+    let c = &scene.cameras[0];
+    assert_eq!(c.name, "persp");
+    assert_eq!(c.position, v(4.0, 5.0, 6.0));
+    assert_close(c.forward, v(-1.0, 0.0, 0.0), 1e-15);
+    assert_close(c.up, v(0.0, 1.0, 0.0), 1e-15);
+    assert_eq!(c.yfov, 0.7);
+    assert_eq!(c.aspect, Some(1.5));
+    assert!(scene.warnings.iter().any(|w| w.contains("orthographic")));
+}
+
+#[test]
+fn external_buffers_and_glb_files_load() {
+    let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let mut doc = one_primitive(&p, None, 4);
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let bytes = base64::decode(uri.split(',').nth(1).unwrap()).unwrap();
+    std::fs::create_dir_all(dir().join("sub dir")).unwrap();
+    std::fs::write(dir().join("sub dir/tri angle.bin"), &bytes).unwrap();
+    doc["buffers"][0]["uri"] = json!("sub%20dir/tri%20angle.bin");
+    let scene = load(&write("external.gltf", &doc)).unwrap();
+    assert_eq!(scene.surfaces[0].area, 0.5);
+
+    doc["buffers"][0].as_object_mut().unwrap().remove("uri");
+    let path = dir().join("binary.glb");
+    std::fs::write(&path, glb(&serde_json::to_vec(&doc).unwrap(), &bytes)).unwrap();
+    let scene = load(&path).unwrap();
+    assert_eq!(scene.surfaces[0].area, 0.5);
+    assert_eq!(scene.name, "binary");
+}
+
+// ---------------------------------------------------------------------------
+// Bad input: an error naming the file and the culprit, never a panic
+// ---------------------------------------------------------------------------
+
+#[test]
+fn a_missing_file_is_an_io_error() {
+    let path = dir().join("does_not_exist.gltf");
+    assert!(matches!(load(&path), Err(Error::Io { .. })));
+}
+
+#[test]
+fn files_that_are_not_gltf_are_named_as_such() {
+    let png = dir().join("picture.gltf");
+    std::fs::write(&png, b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR").unwrap();
+    error_naming(&png, "PNG");
+    let noise = dir().join("noise.glb");
+    std::fs::write(
+        &noise,
+        (0..200u32)
+            .map(|i| (i * 97 % 251) as u8)
+            .collect::<Vec<_>>(),
+    )
+    .unwrap();
+    error_naming(&noise, "not a glTF file");
+    error_naming(
+        &write("not_gltf.gltf", &json!({"hello": "world"})),
+        "not a glTF document",
+    );
+    let broken = dir().join("broken.gltf");
+    std::fs::write(&broken, b"{\"asset\": {\"version\": \"2.0\"}, ").unwrap();
+    error_naming(&broken, "not valid JSON");
+    error_naming(
+        &write("gltf1.gltf", &json!({"asset": {"version": "1.0"}})),
+        "version",
+    );
+}
+
+#[test]
+fn a_file_without_surfaces_is_a_geometry_error() {
+    let path = write(
+        "empty.gltf",
+        &json!({"asset": {"version": "2.0"}, "nodes": [{"name": "lonely"}]}),
+    );
+    let e = error_naming(&path, "no surfaces");
+    assert!(matches!(e, Error::Geometry(_)));
+}
+
+#[test]
+fn a_nan_position_names_the_mesh() {
+    let p = [[0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    error_naming(
+        &write("nan.gltf", &one_primitive(&p, None, 4)),
+        "mesh 0 ('m')",
+    );
+    error_naming(
+        &write("nan2.gltf", &one_primitive(&p, None, 4)),
+        "non-finite",
+    );
+}
+
+#[test]
+fn a_reflectance_above_one_names_the_material() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.5, 1.2, 0.5, 1.0]);
+    error_naming(&write("bright.gltf", &doc), "material 'grey'");
+    // Unnamed: named by its index.
+    doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.2, 0.5, 1.0]}}]);
+    error_naming(&write("bright_unnamed.gltf", &doc), "material 'material 0'");
+}
+
+#[test]
+fn an_index_out_of_range_names_the_mesh() {
+    let doc = one_primitive(&UNIT_TRIANGLE, Some(&[0, 1, 3]), 4);
+    let e = error_naming(&write("bad_index.gltf", &doc), "mesh 0 ('m')");
+    assert!(e.to_string().contains("index 3"), "{e}");
+}
+
+#[test]
+fn a_buffer_uri_escaping_the_folder_is_refused() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    std::fs::write(dir().join("../outside.bin"), [0u8; 36]).unwrap();
+    for uri in [
+        "../outside.bin",
+        "/etc/passwd",
+        "file:///etc/passwd",
+        "http://example.com/a.bin",
+    ] {
+        doc["buffers"][0]["uri"] = json!(uri);
+        error_naming(&write("escape.gltf", &doc), "buffer 0");
+    }
+}
+
+#[test]
+fn a_buffer_whose_length_differs_from_its_byte_length_is_refused() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["buffers"][0]["byteLength"] = json!(64);
+    error_naming(&write("short_buffer.gltf", &doc), "byteLength");
+}
+
+#[test]
+fn a_truncated_glb_is_an_error_at_every_length() {
+    let doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let bin = base64::decode(uri.split(',').nth(1).unwrap()).unwrap();
+    let mut doc = doc;
+    doc["buffers"][0].as_object_mut().unwrap().remove("uri");
+    let whole = glb(&serde_json::to_vec(&doc).unwrap(), &bin);
+    let path = dir().join("truncated.glb");
+    std::fs::write(&path, &whole).unwrap();
+    assert!(load(&path).is_ok());
+    for cut in (0..whole.len()).step_by(7).chain([whole.len() - 1]) {
+        std::fs::write(&path, &whole[..cut]).unwrap();
+        assert!(
+            load(&path).is_err(),
+            "truncated at {cut} of {} was accepted",
+            whole.len()
+        );
+    }
+    std::fs::write(&path, &whole[..whole.len() - 8]).unwrap();
+    error_naming(&path, "truncated");
+}
+
+#[test]
+fn an_accessor_past_the_end_of_its_buffer_names_the_accessor() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["accessors"][0]["count"] = json!(4);
+    error_naming(&write("long_accessor.gltf", &doc), "accessor 0");
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["bufferViews"][0]["byteLength"] = json!(4000);
+    error_naming(&write("long_view.gltf", &doc), "buffer view 0");
+    // A hostile count with no data behind it is refused before allocating.
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["accessors"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("bufferView");
+    doc["accessors"][0]["count"] = json!(4_000_000_000u64);
+    error_naming(&write("huge_count.gltf", &doc), "accessor 0");
+}
+
+#[test]
+fn references_to_missing_objects_are_errors() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(7);
+    error_naming(&write("missing_accessor.gltf", &doc), "accessor 7");
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["meshes"][0]["primitives"][0]["material"] = json!(3);
+    error_naming(&write("missing_material.gltf", &doc), "material");
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+    error_naming(&write("draco.gltf", &doc), "extension");
+}
+
+#[test]
+fn corrupting_any_byte_of_a_glb_never_panics() {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let doc = one_primitive(&p, Some(&[0, 1, 2, 0, 2, 3]), 4);
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let bin = base64::decode(uri.split(',').nth(1).unwrap()).unwrap();
+    let mut doc = doc;
+    doc["buffers"][0].as_object_mut().unwrap().remove("uri");
+    let whole = glb(&serde_json::to_vec(&doc).unwrap(), &bin);
+    let path = dir().join("corrupt.glb");
+    // Every byte of the headers, then every fourth byte (file writes are the cost).
+    for at in (0..whole.len()).filter(|&at| at < 32 || at % 4 == 1) {
+        for value in [0x00u8, 0xFF, b'9'] {
+            let mut bytes = whole.clone();
+            bytes[at] = value;
+            std::fs::write(&path, &bytes).unwrap();
+            // Either outcome is fine; a panic fails the test.
+            let _ = load(&path);
+        }
+    }
+}
+
+#[test]
+fn a_cube_with_shared_or_separate_vertices_becomes_six_outward_quads() {
+    let corner = |i: u32| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32];
+    // Corners as bit patterns x + 2y + 4z; each face counter-clockwise from outside.
+    let faces: [[u32; 4]; 6] = [
+        [0, 4, 6, 2], // -x
+        [1, 3, 7, 5], // +x
+        [0, 1, 5, 4], // -y
+        [2, 6, 7, 3], // +y
+        [0, 2, 3, 1], // -z
+        [4, 5, 7, 6], // +z
+    ];
+    let shared_positions: Vec<[f32; 3]> = (0..8).map(corner).collect();
+    let shared_indices: Vec<u32> = faces
+        .iter()
+        .flat_map(|f| [f[0], f[1], f[2], f[0], f[2], f[3]])
+        .collect();
+    let separate_positions: Vec<[f32; 3]> = faces.iter().flatten().map(|&i| corner(i)).collect();
+    let separate_indices: Vec<u32> = (0..6u32)
+        .flat_map(|f| [4 * f, 4 * f + 1, 4 * f + 2, 4 * f, 4 * f + 2, 4 * f + 3])
+        .collect();
+    for (name, p, ix) in [
+        ("cube_shared.gltf", &shared_positions, &shared_indices),
+        ("cube_separate.gltf", &separate_positions, &separate_indices),
+    ] {
+        let scene = load(&write(name, &one_primitive(p, Some(ix), 4))).unwrap();
+        assert_eq!(scene.surfaces.len(), 6, "{name}");
+        assert_eq!(scene.import_stats.merged_quads, 6);
+        for s in &scene.surfaces {
+            assert!(s.is_quad());
+            assert_eq!(s.area, 1.0);
+            assert_eq!(s.normal, (s.centroid() - DVec3::splat(0.5)) * 2.0, "{name}");
+        }
+    }
+}
+
+#[test]
+fn sparse_accessors_override_zeros() {
+    let mut bin = Bin::default();
+    let indices = bin.view(&[0, 0, 1, 0, 2, 0, 0, 0]); // u16 0, 1, 2 and padding
+    let values: Vec<u8> = UNIT_TRIANGLE
+        .iter()
+        .flatten()
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
+    let values = bin.view(&values);
+    bin.accessors.push(json!({
+        "componentType": 5126, "count": 3, "type": "VEC3", "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 1.0],
+        "sparse": {"count": 3, "indices": {"bufferView": indices, "componentType": 5123}, "values": {"bufferView": values}}
+    }));
+    let mut doc = bin.document(json!({
+        "meshes": [{"name": "sparse", "primitives": [{"attributes": {"POSITION": 0}}]}],
+        "nodes": [{"mesh": 0}]
+    }));
+    let scene = load(&write("sparse.gltf", &doc)).unwrap();
+    assert_eq!(
+        vertices(&scene),
+        vec![vec![v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(0.0, 0.0, 1.0)]]
+    );
+    // A sparse index past the accessor's count.
+    doc["accessors"][0]["count"] = json!(2);
+    doc["accessors"][0]["sparse"]["count"] = json!(2);
+    doc["bufferViews"][0]["byteOffset"] = json!(2);
+    error_naming(&write("sparse_bad.gltf", &doc), "sparse index 2");
+}
