@@ -4,13 +4,18 @@
 use super::common::{closed_box, rel, FaceMaterial};
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::refine::RefineSettings;
 use radiosity::Settings;
 
 fn uniform_settings(patch_size: f64, depth: u8) -> Settings {
-    let mut s = Settings::default();
-    s.patch_size = Some(patch_size);
-    s.refine.uniform_depth = Some(depth);
-    s
+    Settings {
+        patch_size: Some(patch_size),
+        refine: RefineSettings {
+            uniform_depth: Some(depth),
+            ..RefineSettings::default()
+        },
+        ..Settings::default()
+    }
 }
 
 #[test]
@@ -110,8 +115,8 @@ fn six_patch_cube_converges_to_the_exact_solution() {
             "rho {rho} ceiling {}",
             b[1][0]
         );
-        for w in 2..6 {
-            assert!(rel(b[w][0], wall) < 0.005, "rho {rho} wall {}", b[w][0]);
+        for side in &b[2..6] {
+            assert!(rel(side[0], wall) < 0.005, "rho {rho} wall {}", side[0]);
         }
     }
 }

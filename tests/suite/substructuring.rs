@@ -3,6 +3,8 @@
 use super::common::{closed_box, FaceMaterial};
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::refine::RefineSettings;
+use radiosity::solve::SolverSettings;
 use radiosity::Settings;
 
 #[test]
@@ -14,10 +16,18 @@ fn patch_radiosity_is_the_area_mean_of_its_elements() {
     };
     faces[4].reflectance = Rgb::new(0.8, 0.1, 0.1);
     let scene = closed_box(DVec3::new(1.0, 1.0, 1.0), faces);
-    let mut s = Settings::default();
-    s.patch_size = Some(0.34);
-    s.refine.tolerance = 0.01;
-    s.solver.tolerance = 1e-9;
+    let s = Settings {
+        patch_size: Some(0.34),
+        refine: RefineSettings {
+            tolerance: 0.01,
+            ..RefineSettings::default()
+        },
+        solver: SolverSettings {
+            tolerance: 1e-9,
+            ..SolverSettings::default()
+        },
+        ..Settings::default()
+    };
     let sol = radiosity::solve(&scene, &s, &|_| {}).unwrap();
     assert!(
         !sol.stats.passes.is_empty(),

@@ -332,7 +332,7 @@ impl Hemicube {
 /// ranges; avoids a libm call per scanline on baseline x86-64).
 #[inline]
 fn ceil_index(x: f64, limit: usize) -> usize {
-    if !(x > 0.0) {
+    if x.is_nan() || x <= 0.0 {
         return 0;
     }
     if x >= limit as f64 {

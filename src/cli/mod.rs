@@ -1,0 +1,27 @@
+//! Command-line parsing and the subcommands.
+
+mod args;
+mod camera_arg;
+mod progress_bar;
+mod solve_cmd;
+
+use anyhow::Result;
+use clap::Parser;
+
+pub use args::{Cli, Command};
+
+/// Parses the command line and runs the chosen subcommand.
+pub fn run() -> Result<()> {
+    let cli = Cli::parse();
+    // No subcommand: the default job, solving the built-in Cornell box.
+    let command = match cli.command {
+        Some(c) => c,
+        None => Cli::parse_from(["radiosity", "solve", "cornell_box"])
+            .command
+            .expect("the default job parses"),
+    };
+    match command {
+        Command::Solve(a) => solve_cmd::run(&a),
+        Command::ExportScene(a) => solve_cmd::export_scene(&a),
+    }
+}
