@@ -304,14 +304,12 @@ impl Hemicube {
         let table = Arc::clone(&self.table);
         for f in 0..5 {
             let weights = if f == 0 { &table.top } else { &table.side };
-            for (px, &id) in self.items[f].iter().enumerate() {
-                if id < BACK_FACE {
-                    let slot = &mut self.accumulator[id as usize];
-                    if *slot == 0.0 {
-                        self.touched.push(id);
-                    }
-                    *slot += weights[px];
-                }
+            // Sum runs of equal ids in a register and flush at each change: the
+            // item buffer is made of spans, and adding pixel by pixel into the
+            // accumulator would chain every add through memory.
+            let (acc, touched) = (&mut self.accumulator, &mut self.touched);
+            for (&id, &w) in self.items[f].iter().zip(weights.iter()) {
+                flush(acc, touched, id, w);
             }
         }
         self.touched.sort_unstable();
@@ -328,6 +326,18 @@ impl Hemicube {
     }
 }
 
+/// Adds a run of delta form factors won by `id` to its accumulator slot.
+#[inline]
+fn flush(accumulator: &mut [f64], touched: &mut Vec<u32>, id: u32, run: f64) {
+    if id < BACK_FACE {
+        let slot = &mut accumulator[id as usize];
+        if *slot == 0.0 {
+            touched.push(id);
+        }
+        *slot += run;
+    }
+}
+
 /// The smallest integer at or above `x`, clamped to `0..=limit` (pixel index
 /// ranges; avoids a libm call per scanline on baseline x86-64).
 #[inline]
@@ -338,12 +348,9 @@ fn ceil_index(x: f64, limit: usize) -> usize {
     if x >= limit as f64 {
         return limit;
     }
-    let t = x as usize;
-    if (t as f64) < x {
-        t + 1
-    } else {
-        t
-    }
+    // Signed conversions are single instructions on x86-64; unsigned ones are not.
+    let t = x as i64;
+    (if (t as f64) < x { t + 1 } else { t }) as usize
 }
 
 /// Sutherland-Hodgman against the plane depth = near.
