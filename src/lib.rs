@@ -15,6 +15,7 @@
 
 pub mod error;
 pub mod math;
+pub mod reference;
 pub mod scene;
 
 pub use error::{Error, Result};
