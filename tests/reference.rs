@@ -3,9 +3,11 @@
 //! table, back faces, the closed-scene energy identity, scale invariance and
 //! determinism.
 
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 use radiosity::math::Rgb;
-use radiosity::reference::{sample_points, ProbeEstimate, Reference, ReferenceSettings, SurfacePoint};
+use radiosity::reference::{
+    sample_points, ProbeEstimate, Reference, ReferenceSettings, SurfacePoint,
+};
 use radiosity::scene::{Scene, SceneBuilder};
 use std::f64::consts::PI;
 
@@ -16,6 +18,9 @@ use std::f64::consts::PI;
 struct Builder {
     inner: SceneBuilder,
     surfaces: u32,
+    /// A rotation applied to everything added, to exercise non-axis-aligned
+    /// planes (where rounding is not exact).
+    turn: DQuat,
 }
 
 impl Builder {
@@ -23,6 +28,7 @@ impl Builder {
         Builder {
             inner: SceneBuilder::new(name),
             surfaces: 0,
+            turn: DQuat::IDENTITY,
         }
     }
 
@@ -41,7 +47,14 @@ impl Builder {
     /// Adds the rectangle `centre +- u +- v`, its front facing `toward`; returns
     /// its surface index.
     fn rect(&mut self, material: u32, centre: DVec3, u: DVec3, v: DVec3, toward: DVec3) -> u32 {
-        let mut q = [centre - u - v, centre + u - v, centre + u + v, centre - u + v];
+        let r = self.turn;
+        let (centre, u, v, toward) = (r * centre, r * u, r * v, r * toward);
+        let mut q = [
+            centre - u - v,
+            centre + u - v,
+            centre + u + v,
+            centre - u + v,
+        ];
         if (q[1] - q[0]).cross(q[2] - q[0]).dot(toward) < 0.0 {
             q.reverse();
         }
@@ -62,7 +75,13 @@ impl Builder {
             let n = axes[axis];
             let (a, b) = (axes[(axis + 1) % 3], axes[(axis + 2) % 3]);
             self.object(&format!("wall{face}"));
-            self.rect(*m, c + n * (sign * h[axis]), a * h.dot(a), b * h.dot(b), -n * sign);
+            self.rect(
+                *m,
+                c + n * (sign * h[axis]),
+                a * h.dot(a),
+                b * h.dot(b),
+                -n * sign,
+            );
         }
     }
 
@@ -124,7 +143,11 @@ fn rectangle_form_factor(x0: f64, x1: f64, y0: f64, y1: f64, c: f64) -> f64 {
 #[test]
 fn corner_form_factor_matches_the_published_check_values() {
     // algorithms.md 4.2: (1,1) -> 0.138532; (2,3) -> 0.217575; (0.5,0.5) -> 0.059864.
-    for (x, y, f) in [(1.0, 1.0, 0.138532), (2.0, 3.0, 0.217575), (0.5, 0.5, 0.059864)] {
+    for (x, y, f) in [
+        (1.0, 1.0, 0.138532),
+        (2.0, 3.0, 0.217575),
+        (0.5, 0.5, 0.059864),
+    ] {
         assert!((corner_form_factor(x, y) - f).abs() < 6e-7);
     }
 }
@@ -145,15 +168,26 @@ fn furnace_gives_e_over_one_minus_rho_everywhere() {
     // One point a hair from a concave corner, where light sampling alone would
     // have unbounded variance.
     points.push(point(&scene, 4, DVec3::new(1e-4, 2e-4, 0.0)));
-    let estimates = reference.radiosity_at(&points, &settings(20_000, 5)).unwrap();
+    let estimates = reference
+        .radiosity_at(&points, &settings(20_000, 5))
+        .unwrap();
     for (p, e) in points.iter().zip(&estimates) {
         assert_eq!(e.paths, 20_000);
         assert_within_3se(&format!("furnace at {}", p.position), e, expected, 0.0);
         for k in 0..3 {
-            assert!(e.std_error[k] < 0.01 * expected[k], "standard error {:?}", e.std_error);
+            assert!(
+                e.std_error[k] < 0.01 * expected[k],
+                "standard error {:?}",
+                e.std_error
+            );
         }
     }
-    for (o, e) in reference.object_means(&settings(20_000, 6)).unwrap().iter().enumerate() {
+    for (o, e) in reference
+        .object_means(&settings(20_000, 6))
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
         assert_within_3se(&format!("furnace object {o}"), e, expected, 0.0);
     }
 }
@@ -167,7 +201,13 @@ fn light_over_floor() -> (Scene, u32, Rgb, f64) {
     let floor_m = b.material(rho, Rgb::ZERO);
     let light_m = b.material(Rgb::ZERO, Rgb::new(2.0, 1.0, 0.5));
     b.object("floor");
-    let floor = b.rect(floor_m, DVec3::ZERO, DVec3::X * 3.0, DVec3::Y * 3.0, DVec3::Z);
+    let floor = b.rect(
+        floor_m,
+        DVec3::ZERO,
+        DVec3::X * 3.0,
+        DVec3::Y * 3.0,
+        DVec3::Z,
+    );
     b.object("light");
     b.rect(light_m, DVec3::Z, DVec3::X * 0.5, DVec3::Y * 0.5, -DVec3::Z);
     let scene = b.build();
@@ -186,7 +226,9 @@ fn point_under_a_square_light_matches_the_exact_form_factor() {
         .iter()
         .map(|(x, y)| point(&scene, floor, DVec3::new(*x, *y, 0.0)))
         .collect();
-    let estimates = reference.radiosity_at(&points, &settings(40_000, 9)).unwrap();
+    let estimates = reference
+        .radiosity_at(&points, &settings(40_000, 9))
+        .unwrap();
     for ((x, y), e) in spots.iter().zip(&estimates) {
         let f = rectangle_form_factor(-0.5 - x, 0.5 - x, -0.5 - y, 0.5 - y, height);
         assert_within_3se(&format!("floor at ({x}, {y}), F = {f}"), e, rho_e * f, 0.0);
@@ -207,17 +249,42 @@ fn half_occluded_light_matches_the_exact_penumbra_table() {
         (0.3, 0.003707),
         (0.6, 0.0),
     ];
+    // The occluder must block whichever way it faces.
+    for occluder_faces in [-DVec3::Z, DVec3::Z] {
+        penumbra_table_case(&table, occluder_faces);
+    }
+}
+
+fn penumbra_table_case(table: &[(f64, f64)], occluder_faces: DVec3) {
     let mut b = Builder::new("penumbra");
     let rho = Rgb::new(1.0, 0.5, 0.25);
     let floor_m = b.material(rho, Rgb::ZERO);
     let black = b.material(Rgb::ZERO, Rgb::ZERO);
     let light_m = b.material(Rgb::ZERO, Rgb::splat(PI));
     b.object("floor");
-    let floor = b.rect(floor_m, DVec3::ZERO, DVec3::X * 3.0, DVec3::Y * 3.0, DVec3::Z);
+    let floor = b.rect(
+        floor_m,
+        DVec3::ZERO,
+        DVec3::X * 3.0,
+        DVec3::Y * 3.0,
+        DVec3::Z,
+    );
     b.object("occluder");
-    b.rect(black, DVec3::new(1.5, 0.0, 2.0), DVec3::X * 1.5, DVec3::Y * 3.0, -DVec3::Z);
+    b.rect(
+        black,
+        DVec3::new(1.5, 0.0, 2.0),
+        DVec3::X * 1.5,
+        DVec3::Y * 3.0,
+        occluder_faces,
+    );
     b.object("light");
-    b.rect(light_m, DVec3::new(0.0, 0.0, 4.0), DVec3::X * 0.5, DVec3::Y * 0.5, -DVec3::Z);
+    b.rect(
+        light_m,
+        DVec3::new(0.0, 0.0, 4.0),
+        DVec3::X * 0.5,
+        DVec3::Y * 0.5,
+        -DVec3::Z,
+    );
     let scene = b.build();
     let rho_e = rho * scene.materials[light_m as usize].emission;
     let reference = Reference::new(&scene).unwrap();
@@ -225,10 +292,13 @@ fn half_occluded_light_matches_the_exact_penumbra_table() {
         .iter()
         .map(|(x, _)| point(&scene, floor, DVec3::new(*x, 0.0, 0.0)))
         .collect();
-    let estimates = reference.radiosity_at(&points, &settings(100_000, 13)).unwrap();
+    let estimates = reference
+        .radiosity_at(&points, &settings(100_000, 13))
+        .unwrap();
     for ((x, f), e) in table.iter().zip(&estimates) {
         // The table's rounding (5e-7 in F) is added to the allowance.
-        assert_within_3se(&format!("penumbra at x = {x}"), e, rho_e * *f, 5e-7 * rho_e[0]);
+        let what = format!("penumbra at x = {x}, occluder facing {occluder_faces}");
+        assert_within_3se(&what, e, rho_e * *f, 5e-7 * rho_e[0]);
         if *f > 0.0 {
             assert!(e.std_error[0] < 0.01 * rho_e[0] * f);
         } else {
@@ -242,18 +312,26 @@ fn half_occluded_light_matches_the_exact_penumbra_table() {
 // ---------------------------------------------------------------- back faces
 
 /// A 1 x 1 grey floor under a light at height 4 facing down, optionally with a
-/// 4 x 4 single-sided quad at height 2 facing DOWN (its back towards the light).
-fn floor_under_light(with_quad: bool) -> (Scene, u32, Option<u32>, Rgb) {
+/// 4 x 4 single-sided quad at height 2 facing DOWN (its back towards the light)
+/// and a 1 x 1 grey ceiling at height 6 facing down (towards the light's back).
+/// Returns the scene, the floor, the quad and ceiling if present, and the
+/// light's exitance.
+fn floor_under_light(with_quad: bool) -> (Scene, u32, Option<(u32, u32)>, Rgb) {
     let mut b = Builder::new("back face");
     let floor_m = b.material(Rgb::splat(0.5), Rgb::ZERO);
     let quad_m = b.material(Rgb::splat(0.8), Rgb::ZERO);
-    let light_m = b.material(Rgb::ZERO, Rgb::splat(10.0));
+    let light_m = b.material(Rgb::splat(0.5), Rgb::splat(10.0));
+    let (u, v) = (DVec3::X * 0.5, DVec3::Y * 0.5);
     b.object("floor");
-    let floor = b.rect(floor_m, DVec3::ZERO, DVec3::X * 0.5, DVec3::Y * 0.5, DVec3::Z);
-    b.object("quad");
-    let quad = with_quad.then(|| b.rect(quad_m, DVec3::Z * 2.0, DVec3::X * 2.0, DVec3::Y * 2.0, -DVec3::Z));
+    let floor = b.rect(floor_m, DVec3::ZERO, u, v, DVec3::Z);
     b.object("light");
-    b.rect(light_m, DVec3::Z * 4.0, DVec3::X * 0.5, DVec3::Y * 0.5, -DVec3::Z);
+    b.rect(light_m, DVec3::Z * 4.0, u, v, -DVec3::Z);
+    let quad = with_quad.then(|| {
+        b.object("quad");
+        let quad = b.rect(quad_m, DVec3::Z * 2.0, u * 4.0, v * 4.0, -DVec3::Z);
+        b.object("ceiling");
+        (quad, b.rect(floor_m, DVec3::Z * 6.0, u, v, -DVec3::Z))
+    });
     let scene = b.build();
     let light_e = scene.materials[light_m as usize].emission;
     (scene, floor, quad, light_e)
@@ -264,14 +342,21 @@ fn back_faces_block_light() {
     // Rays from any floor point to the light cross height 2 within |x|, |y| <=
     // 0.5, inside the quad, so the whole floor is in umbra if the quad's back
     // blocks. The quad's front then sees only a dark floor, so B = 0 exactly on
-    // the floor and on the quad's front, for every path.
-    let (scene, floor, quad, _) = floor_under_light(true);
+    // the floor and on the quad's front, for every path. The ceiling sees only
+    // the backs of the light and of the quad (which hides the floor), which
+    // neither emit nor reflect: B = 0 there too.
+    let (scene, floor, quad_and_ceiling, _) = floor_under_light(true);
+    let (quad, ceiling) = quad_and_ceiling.unwrap();
     let reference = Reference::new(&scene).unwrap();
     let points = [
         point(&scene, floor, DVec3::new(0.3, -0.2, 0.0)),
-        point(&scene, quad.unwrap(), DVec3::new(0.3, -0.2, 2.0)),
+        point(&scene, quad, DVec3::new(0.3, -0.2, 2.0)),
+        point(&scene, ceiling, DVec3::new(0.3, -0.2, 6.0)),
     ];
-    for e in reference.radiosity_at(&points, &settings(4_000, 2)).unwrap() {
+    for e in reference
+        .radiosity_at(&points, &settings(4_000, 2))
+        .unwrap()
+    {
         assert_eq!(e.radiosity, Rgb::ZERO);
         assert_eq!(e.std_error, Rgb::ZERO);
     }
@@ -286,36 +371,63 @@ fn back_faces_block_light() {
 }
 
 #[test]
-fn double_sided_panels_reflect_on_top_and_block_below() {
-    // A double-sided panel is two coincident back-to-back surfaces. The upper
-    // one (rho 0.7) sees only the black light, so B = 0.7 E F exactly; its
-    // coincident twin must not shadow it. Under the panel, a grey floor point
-    // sees only the black lower twin, so B = 0 exactly if the pair blocks.
+fn double_sided_panels_are_lit_on_top_emit_below_and_block() {
+    // A double-sided panel is two coincident back-to-back surfaces: here the
+    // upper one grey (rho 0.7), the lower one an emitter E_p. A light E_l at
+    // height 4 faces down onto it. The whole scene is turned by an arbitrary
+    // rotation so that the coincident planes differ by rounding.
+    // - A point on the upper twin sees only the (black) light:
+    //   B = 0.7 E_l F(height 2); its twin must not shadow it.
+    // - A floor point under the middle sees the lower twin, and the light only
+    //   through the panel: B = 0.5 E_p F(height 2). Any leak of the light, or a
+    //   ray that takes the upper twin's back for the lower twin's front, shows.
     let mut b = Builder::new("double-sided");
+    b.turn = DQuat::from_axis_angle(DVec3::new(0.3, -0.5, 0.8).normalize(), 0.7);
+    let turn = b.turn;
     let floor_m = b.material(Rgb::splat(0.5), Rgb::ZERO);
     let top_m = b.material(Rgb::splat(0.7), Rgb::ZERO);
-    let black = b.material(Rgb::ZERO, Rgb::ZERO);
+    let under_m = b.material(Rgb::ZERO, Rgb::new(0.5, 1.0, 2.0));
     let light_m = b.material(Rgb::ZERO, Rgb::new(3.0, 2.0, 1.0));
     b.object("floor");
-    let floor = b.rect(floor_m, DVec3::ZERO, DVec3::X * 10.0, DVec3::Y * 10.0, DVec3::Z);
+    let floor = b.rect(
+        floor_m,
+        DVec3::ZERO,
+        DVec3::X * 10.0,
+        DVec3::Y * 10.0,
+        DVec3::Z,
+    );
     b.object("panel");
     let (u, v) = (DVec3::X * 0.5, DVec3::Y * 0.5);
     let top = b.rect(top_m, DVec3::Z * 2.0, u, v, DVec3::Z);
-    b.rect(black, DVec3::Z * 2.0, u, v, -DVec3::Z);
+    b.rect(under_m, DVec3::Z * 2.0, u, v, -DVec3::Z);
     b.object("light");
     b.rect(light_m, DVec3::Z * 4.0, u, v, -DVec3::Z);
     let scene = b.build();
     let reference = Reference::new(&scene).unwrap();
-    let (px, py) = (0.1, 0.2);
-    let points = [
-        point(&scene, top, DVec3::new(px, py, 2.0)),
-        point(&scene, floor, DVec3::ZERO),
-    ];
-    let e = reference.radiosity_at(&points, &settings(20_000, 4)).unwrap();
-    let f = rectangle_form_factor(-0.5 - px, 0.5 - px, -0.5 - py, 0.5 - py, 2.0);
-    let expected = scene.materials[light_m as usize].emission * (0.7 * f);
-    assert_within_3se("top of the panel", &e[0], expected, 0.0);
-    assert_eq!(e[1].radiosity, Rgb::ZERO);
+    // Several points on top: whether rounding puts a point's twin just in front
+    // of it or just behind differs from point to point.
+    let spots = [(0.1, 0.2), (-0.3, 0.05), (0.42, -0.37), (-0.2, -0.45)];
+    let mut points: Vec<SurfacePoint> = spots
+        .iter()
+        .map(|(x, y)| point(&scene, top, turn * DVec3::new(*x, *y, 2.0)))
+        .collect();
+    points.push(point(&scene, floor, DVec3::ZERO));
+    let e = reference
+        .radiosity_at(&points, &settings(20_000, 4))
+        .unwrap();
+    let light = scene.materials[light_m as usize].emission;
+    for ((x, y), est) in spots.iter().zip(&e) {
+        let f = rectangle_form_factor(-0.5 - x, 0.5 - x, -0.5 - y, 0.5 - y, 2.0);
+        assert_within_3se(
+            &format!("panel top at ({x}, {y})"),
+            est,
+            light * (0.7 * f),
+            0.0,
+        );
+    }
+    let f_floor = rectangle_form_factor(-0.5, 0.5, -0.5, 0.5, 2.0);
+    let under = scene.materials[under_m as usize].emission;
+    assert_within_3se("floor under the panel", &e[4], under * (0.5 * f_floor), 0.0);
 }
 
 // ---------------------------------------------------------------- energy balance
@@ -345,9 +457,18 @@ fn closed_scene_area_mean_is_mean_emission_over_one_minus_rho() {
     b.object("box");
     let (c, h) = (DVec3::new(1.0, 0.8, 0.6), DVec3::new(0.4, 0.3, 0.6));
     for (axis, n) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
-        let (a, bb) = ([DVec3::Y, DVec3::Z, DVec3::X][axis], [DVec3::Z, DVec3::X, DVec3::Y][axis]);
+        let (a, bb) = (
+            [DVec3::Y, DVec3::Z, DVec3::X][axis],
+            [DVec3::Z, DVec3::X, DVec3::Y][axis],
+        );
         for s in [-1.0, 1.0] {
-            b.rect(dark, c + n * (s * h.dot(n)), a * h.dot(a), bb * h.dot(bb), n * s);
+            b.rect(
+                dark,
+                c + n * (s * h.dot(n)),
+                a * h.dot(a),
+                bb * h.dot(bb),
+                n * s,
+            );
         }
     }
     let scene = b.build();
@@ -407,7 +528,13 @@ fn cornell_like(scale: f64, offset: DVec3) -> Scene {
     b.rect(white, p(h, 0.0, h), x * h, z * h, DVec3::Y);
     b.object("floor");
     for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
-        b.rect(white, p(h * (i + 0.5), h * (j + 0.5), 0.0), x * (h / 2.0), y * (h / 2.0), DVec3::Z);
+        b.rect(
+            white,
+            p(h * (i + 0.5), h * (j + 0.5), 0.0),
+            x * (h / 2.0),
+            y * (h / 2.0),
+            DVec3::Z,
+        );
     }
     b.object("ceiling");
     let third = l / 3.0;
@@ -426,10 +553,19 @@ fn cornell_like(scale: f64, offset: DVec3) -> Scene {
         let (lo, hi) = (DVec3::from(lo), DVec3::from(hi));
         let (c, e) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
         for (axis, n) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
-            let (a, bb) = ([DVec3::Y, DVec3::Z, DVec3::X][axis], [DVec3::Z, DVec3::X, DVec3::Y][axis]);
+            let (a, bb) = (
+                [DVec3::Y, DVec3::Z, DVec3::X][axis],
+                [DVec3::Z, DVec3::X, DVec3::Y][axis],
+            );
             for s in [-1.0, 1.0] {
                 let centre = (c + n * (s * e.dot(n))) * scale + offset;
-                b.rect(grey, centre, a * (e.dot(a) * scale), bb * (e.dot(bb) * scale), n * s);
+                b.rect(
+                    grey,
+                    centre,
+                    a * (e.dot(a) * scale),
+                    bb * (e.dot(bb) * scale),
+                    n * s,
+                );
             }
         }
     }
@@ -469,7 +605,10 @@ fn results_do_not_depend_on_the_scene_scale() {
     ] {
         let other = run(scale, offset);
         let diff = largest_relative_difference(&unit, &other);
-        assert!(diff < 1e-6, "scale {scale}, offset {offset}: relative difference {diff}");
+        assert!(
+            diff < 1e-6,
+            "scale {scale}, offset {offset}: relative difference {diff}"
+        );
     }
 }
 
@@ -534,7 +673,10 @@ fn sample_points_are_stratified_by_area_and_lie_on_their_surfaces() {
     // random sampling would stray by about sqrt(share), 17 for 275).
     for (s, n) in scene.surfaces.iter().zip(&per_surface) {
         let share = count as f64 * s.area / total;
-        assert!((*n as f64 - share).abs() < 2.0, "{n} points for share {share}");
+        assert!(
+            (*n as f64 - share).abs() < 2.0,
+            "{n} points for share {share}"
+        );
     }
 }
 
@@ -543,22 +685,34 @@ fn locate_attaches_free_points_to_the_right_surface() {
     let scene = cornell_like(1.0, DVec3::ZERO);
     let reference = Reference::new(&scene).unwrap();
     // Slightly above the floor, facing up: the floor quad containing (1, 4).
-    let p = reference.locate(DVec3::new(1.0, 4.0, 1e-6), DVec3::Z).unwrap();
+    let p = reference
+        .locate(DVec3::new(1.0, 4.0, 1e-6), DVec3::Z)
+        .unwrap();
     let s = &scene.surfaces[p.surface as usize];
     assert_eq!(s.normal, DVec3::Z);
     assert_eq!(p.position, DVec3::new(1.0, 4.0, 0.0));
     let (lo, hi) = s
         .vertices
         .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), v| {
+            (a.min(*v), b.max(*v))
+        });
     assert!(lo.x <= 1.0 && 1.0 <= hi.x && lo.y <= 4.0 && 4.0 <= hi.y);
     // The top of the short box (height 1.6) is found there, not the floor.
-    let top = reference.locate(DVec3::new(1.5, 1.5, 1.6), DVec3::Z).unwrap();
+    let top = reference
+        .locate(DVec3::new(1.5, 1.5, 1.6), DVec3::Z)
+        .unwrap();
     assert_eq!(top.position.z, 1.6);
     // Wrong facing, off the plane, or outside every polygon: nothing.
-    assert!(reference.locate(DVec3::new(1.0, 4.0, 0.0), -DVec3::Z).is_none());
-    assert!(reference.locate(DVec3::new(1.0, 4.0, 0.01), DVec3::Z).is_none());
-    assert!(reference.locate(DVec3::new(-1.0, 4.0, 0.0), DVec3::Z).is_none());
+    assert!(reference
+        .locate(DVec3::new(1.0, 4.0, 0.0), -DVec3::Z)
+        .is_none());
+    assert!(reference
+        .locate(DVec3::new(1.0, 4.0, 0.01), DVec3::Z)
+        .is_none());
+    assert!(reference
+        .locate(DVec3::new(-1.0, 4.0, 0.0), DVec3::Z)
+        .is_none());
     assert!(reference.locate(DVec3::NAN, DVec3::Z).is_none());
 }
 
