@@ -2,7 +2,7 @@
 //! phase, and exact double-precision polygon tests for every decision.
 //!
 //! The boxes are stored relative to the scene's centre and padded by 4e-6 of the
-//! scene diameter, about sixty times the worst f32 rounding of a centred
+//! scene diameter, over ten times the worst f32 rounding of a centred
 //! coordinate, ray origin or direction over one diameter. The BVH therefore only
 //! ever visits too much, never too little; which surface is hit, and where, is
 //! decided in f64 by [`SurfaceGeometry::intersect`].

@@ -7,6 +7,36 @@
 //! object ([`Reference::object_means`]), each with a standard error, so that
 //! the radiosity solver can be measured against it.
 //!
+//! # Example
+//!
+//! ```
+//! use glam::DVec3;
+//! use radiosity::math::Rgb;
+//! use radiosity::reference::{sample_points, Reference, ReferenceSettings};
+//! use radiosity::scene::SceneBuilder;
+//!
+//! // A grey floor under a small light that faces it.
+//! let mut b = SceneBuilder::new("demo");
+//! let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO)?;
+//! let lamp = b.material("lamp", Rgb::ZERO, Rgb::splat(1.0))?;
+//! let p = DVec3::new;
+//! b.quad(grey, p(-1.0, -1.0, 0.0), p(1.0, -1.0, 0.0), p(1.0, 1.0, 0.0), p(-1.0, 1.0, 0.0))?;
+//! b.quad(lamp, p(-0.1, -0.1, 1.0), p(-0.1, 0.1, 1.0), p(0.1, 0.1, 1.0), p(0.1, -0.1, 1.0))?;
+//! let scene = b.build()?;
+//!
+//! let reference = Reference::new(&scene)?;
+//! let settings = ReferenceSettings { paths: 1_000, ..ReferenceSettings::default() };
+//! let points = sample_points(&scene, 4, 7)?;
+//! for (point, estimate) in points.iter().zip(reference.radiosity_at(&points, &settings)?) {
+//!     assert!(estimate.radiosity.min_band() >= 0.0);
+//!     assert_eq!(estimate.paths, 1_000);
+//!     let _ = (point.position, estimate.std_error);
+//! }
+//! let probe = reference.locate(DVec3::ZERO, DVec3::Z).expect("on the floor");
+//! assert_eq!(probe.surface, 0);
+//! # Ok::<(), radiosity::Error>(())
+//! ```
+//!
 //! # Physics
 //!
 //! Surfaces are single-sided Lambertian polygons: only the front (the side the
