@@ -1,9 +1,10 @@
 //! Sample mean and standard error per band, accumulated in a fixed order.
 
 use crate::math::Rgb;
+use serde::Serialize;
 
 /// A Monte Carlo estimate of radiosity with its standard error.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct ProbeEstimate {
     /// The sample mean per band (W/m^2, exitance units like the scene's emission).
     pub radiosity: Rgb,
