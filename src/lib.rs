@@ -18,6 +18,7 @@ pub mod error;
 pub mod gltf_io;
 pub mod math;
 pub mod render;
+pub mod reference;
 pub mod scene;
 pub mod scenes;
 

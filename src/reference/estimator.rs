@@ -1,0 +1,115 @@
+//! One path: an unbiased single-sample estimate of the radiosity at a point.
+//!
+//! For a diffuse point x on surface s,
+//! `B(x) = E_s + rho_s H(x)` with the irradiance `H(x) = integral L_in cos dw`,
+//! and a front hit y carries `L = B(y)/pi = E_y/pi + rho_y H(y)/pi`. So
+//!
+//! `H(x) = integral (E_y/pi) cos dw  +  integral (rho_y H(y)/pi) cos dw`.
+//!
+//! The first (direct) integral is estimated with both a light sample and a
+//! cosine-distributed direction, combined by multiple importance sampling with the
+//! balance heuristic (Veach & Guibas 1995). Each weighted term is then at most E_y,
+//! so per-path values stay bounded even at concave corners, where a light sample
+//! alone has unbounded variance. The second integral uses the same cosine
+//! direction: its estimate is `rho_y H(y)`, continued recursively from y. A ray
+//! that meets a back face, or nothing, carries no light and ends the path.
+
+use super::rng::Rng;
+use super::sampling::cosine_direction;
+use super::{Reference, ReferenceSettings};
+use crate::math::Rgb;
+use glam::DVec3;
+use std::f64::consts::PI;
+
+impl Reference {
+    /// One path's estimate of B at `position` on surface `surface`.
+    pub(crate) fn trace_path(
+        &self,
+        surface: u32,
+        position: DVec3,
+        settings: &ReferenceSettings,
+        rng: &mut Rng,
+    ) -> Rgb {
+        let mut value = self.emission[surface as usize];
+        // The weight that H at the current vertex carries in B(x).
+        let mut weight = self.reflectance[surface as usize];
+        let mut surface = surface;
+        let mut position = position;
+        let mut bounce = 0u32;
+        while weight.max_band() > 0.0 {
+            let normal = self.geometry[surface as usize].normal;
+            let origin = position + normal * self.tolerances.offset;
+            value += weight * self.light_sample_term(surface, origin, normal, rng);
+            let dir = cosine_direction(normal, rng.uniform(), rng.uniform());
+            let Some(hit) = self.accel.nearest(&self.geometry, origin, dir, surface) else {
+                break;
+            };
+            if !hit.front {
+                break;
+            }
+            value += weight * self.direction_sample_term(hit.surface, dir, normal, hit.t);
+            if bounce >= settings.max_bounces {
+                break;
+            }
+            bounce += 1;
+            weight = weight * self.reflectance[hit.surface as usize];
+            if bounce > settings.min_bounces_before_roulette {
+                // Continue with probability q and divide by it: unbiased.
+                let q = weight.max_band().min(1.0);
+                if rng.uniform() >= q {
+                    break;
+                }
+                weight *= 1.0 / q;
+            }
+            surface = hit.surface;
+            position = origin + dir * hit.t;
+        }
+        value
+    }
+
+    /// The light-sampling half of the direct term at `origin` (on `surface`).
+    fn light_sample_term(&self, surface: u32, origin: DVec3, normal: DVec3, rng: &mut Rng) -> Rgb {
+        let Some(emitters) = &self.emitters else {
+            return Rgb::ZERO;
+        };
+        let light = emitters.sample(&self.geometry, rng.uniform(), rng.uniform());
+        if light.surface == surface {
+            // A planar surface cannot see itself.
+            return Rgb::ZERO;
+        }
+        let span = light.position - origin;
+        let distance_squared = span.length_squared();
+        let dir = span / distance_squared.sqrt();
+        let cos_here = dir.dot(normal);
+        let cos_there = -dir.dot(self.geometry[light.surface as usize].normal);
+        if !(cos_here > 0.0 && cos_there > 0.0) {
+            return Rgb::ZERO;
+        }
+        if !self
+            .accel
+            .unblocked(&self.geometry, origin, light.position, surface)
+        {
+            return Rgb::ZERO;
+        }
+        let light_density = emitters.area_density(light.surface) * distance_squared / cos_there;
+        let cosine_density = cos_here / PI;
+        self.emission[light.surface as usize] * (cos_here / PI / (light_density + cosine_density))
+    }
+
+    /// The cosine-direction half of the direct term, for a ray along `dir` from a
+    /// point with normal `normal` that meets the front of `hit_surface` at `t`.
+    fn direction_sample_term(&self, hit_surface: u32, dir: DVec3, normal: DVec3, t: f64) -> Rgb {
+        let Some(emitters) = &self.emitters else {
+            return Rgb::ZERO;
+        };
+        let density = emitters.area_density(hit_surface);
+        if density == 0.0 {
+            return Rgb::ZERO;
+        }
+        let cos_here = dir.dot(normal);
+        let cos_there = -dir.dot(self.geometry[hit_surface as usize].normal);
+        let light_density = density * t * t / cos_there;
+        let cosine_density = cos_here / PI;
+        self.emission[hit_surface as usize] * (cos_here / PI / (light_density + cosine_density))
+    }
+}
