@@ -23,6 +23,28 @@ pub enum Command {
     Solve(Box<SolveArgs>),
     /// Write a built-in scene as a glTF file.
     ExportScene(ExportArgs),
+    /// Path-traced ground truth: the mean radiosity of every object, with
+    /// standard errors (independent of the hemi-cube and the solver).
+    Reference(ReferenceArgs),
+}
+
+/// `radiosity reference`.
+#[derive(Args, Debug)]
+pub struct ReferenceArgs {
+    /// A glTF file or the name of a built-in scene.
+    pub scene: String,
+    /// Paths per object (each from an independent uniform point on it).
+    #[arg(long, default_value_t = 1_000_000)]
+    pub paths: u64,
+    /// Seed of the path sampling.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads [default: all cores].
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output JSON file [default: standard output].
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
 }
 
 /// `radiosity export-scene`.

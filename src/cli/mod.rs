@@ -3,6 +3,7 @@
 mod args;
 mod camera_arg;
 mod progress_bar;
+mod reference_cmd;
 mod solve_cmd;
 
 use anyhow::Result;
@@ -23,5 +24,6 @@ pub fn run() -> Result<()> {
     match command {
         Command::Solve(a) => solve_cmd::run(&a),
         Command::ExportScene(a) => solve_cmd::export_scene(&a),
+        Command::Reference(a) => reference_cmd::run(&a),
     }
 }
