@@ -17,8 +17,8 @@ pub mod analytic;
 pub mod error;
 pub mod gltf_io;
 pub mod math;
-pub mod render;
 pub mod reference;
+pub mod render;
 pub mod scene;
 pub mod scenes;
 

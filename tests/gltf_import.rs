@@ -29,7 +29,7 @@ struct Bin {
 
 impl Bin {
     fn view(&mut self, data: &[u8]) -> usize {
-        while self.bytes.len() % 4 != 0 {
+        while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
         let offset = self.bytes.len();

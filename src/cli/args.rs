@@ -99,6 +99,14 @@ pub struct SolveArgs {
     /// Most leaf elements.
     #[arg(long = "max-elements", default_value_t = 200_000)]
     pub max_elements: usize,
+    /// Split a source patch whose elements spread by more than this fraction of
+    /// the brightest reflected radiosity (its children become patches); 0 never
+    /// splits sources.
+    #[arg(long = "source-tolerance", default_value_t = 0.1)]
+    pub source_tolerance: f64,
+    /// Rounds of source splitting (each recomputes every row).
+    #[arg(long = "source-passes", default_value_t = 2)]
+    pub source_passes: usize,
     /// Subdivide every patch uniformly to this depth instead of adapting.
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,

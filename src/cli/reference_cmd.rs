@@ -67,8 +67,9 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
     };
     let text = serde_json::to_string_pretty(&report)? + "\n";
     match &a.output {
-        Some(path) => std::fs::write(path, text)
-            .with_context(|| format!("writing {}", path.display()))?,
+        Some(path) => {
+            std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?
+        }
         None => print!("{text}"),
     }
     Ok(())

@@ -47,6 +47,8 @@ fn settings(a: &SolveArgs) -> Settings {
             max_depth: a.max_depth,
             min_element_area: a.min_element_area,
             max_elements: a.max_elements,
+            source_tolerance: (a.source_tolerance > 0.0).then_some(a.source_tolerance),
+            source_passes: a.source_passes,
             ..RefineSettings::default()
         },
         ..Settings::default()
@@ -79,6 +81,7 @@ struct Report<'a> {
     solver: SolverReport,
     energy: &'a radiosity::pipeline::EnergyBalance,
     hemicube: &'a radiosity::pipeline::HemicubeFigures,
+    source_passes: &'a [radiosity::pipeline::SourcePassStats],
     passes: &'a [radiosity::pipeline::PassStats],
     final_max_difference: f64,
     patch_size: f64,
@@ -214,6 +217,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         },
         energy: &s.energy,
         hemicube: &s.hemicube,
+        source_passes: &s.source_passes,
         passes: &s.passes,
         final_max_difference: s.final_max_difference,
         patch_size: s.patch_size,

@@ -92,7 +92,7 @@ pub fn compute_rows(
                     Ordering::Relaxed,
                 );
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if n % 64 == 0 || n == keys.len() {
+                if n.is_multiple_of(64) || n == keys.len() {
                     progress(n);
                 }
                 row

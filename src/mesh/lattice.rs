@@ -42,8 +42,9 @@ pub struct SurfaceLattice {
     pub object: u32,
     /// The patch cut.
     pub grid: PatchGrid,
-    /// Index of this surface's first patch in `Mesh::patches`.
-    pub first_patch: u32,
+    /// Index of this surface's first top-level cell in `Mesh::top_roots` (the
+    /// initial patch cut; patches split later do not change it).
+    pub first_root: u32,
     /// Lattice extent along each axis (`L` for both axes of a triangle).
     pub extent: (u32, u32),
 }
@@ -56,7 +57,7 @@ impl SurfaceLattice {
         reflectance: Rgb,
         emission: Rgb,
         patch_size: f64,
-        first_patch: u32,
+        first_root: u32,
     ) -> (Self, Vec<Cell>) {
         let v = &surface.vertices;
         let root = 1u32 << MAX_DEPTH;
@@ -120,7 +121,7 @@ impl SurfaceLattice {
                 emission,
                 object: surface.object,
                 grid,
-                first_patch,
+                first_root,
                 extent,
             },
             cells,

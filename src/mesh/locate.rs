@@ -11,7 +11,7 @@ impl Mesh {
     pub fn locate(&self, surface: u32, probe: Probe, max_depth: u8) -> Option<ElementKey> {
         let lattice = &self.surfaces[surface as usize];
         let local = lattice.patch_at(probe)?;
-        let mut key = self.patches[(lattice.first_patch + local) as usize].root;
+        let mut key = self.top_roots[(lattice.first_root + local) as usize];
         loop {
             let e = &self.elements[key];
             if e.is_leaf() || e.depth >= max_depth {

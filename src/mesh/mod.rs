@@ -29,6 +29,10 @@ pub struct Mesh {
     pub patches: Vec<Patch>,
     /// The element arena.
     pub elements: SlotMap<ElementKey, Element>,
+    /// The roots of the element quadtrees, one per cell of the initial patch
+    /// cut, in surface order. Patches start as these roots; a split patch hands
+    /// its role to its children, but the trees keep these roots.
+    pub top_roots: Vec<ElementKey>,
 }
 
 impl Mesh {
@@ -46,6 +50,7 @@ impl Mesh {
             surfaces: Vec::with_capacity(scene.surfaces.len()),
             patches: Vec::new(),
             elements: SlotMap::with_key(),
+            top_roots: Vec::new(),
         };
         for (si, surface) in scene.surfaces.iter().enumerate() {
             let material = scene.material_of(surface);
@@ -67,6 +72,7 @@ impl Mesh {
             for cell in cells {
                 let patch = mesh.patches.len() as u32;
                 let key = mesh.insert_element(si as u32, patch, None, cell, 0);
+                mesh.top_roots.push(key);
                 let e = &mesh.elements[key];
                 let p = Patch {
                     surface: si as u32,
@@ -122,6 +128,46 @@ impl Mesh {
         e.children.extend_from_slice(&kids);
         e.row = Default::default();
         kids
+    }
+
+    /// Splits patch `p` into the four children of its root element, which become
+    /// patches: the first keeps id `p`, the others are appended. Every element
+    /// below them is re-labelled. The root is split first if it is a leaf.
+    /// Returns the ids of the four patches.
+    pub fn split_patch(&mut self, p: u32) -> [u32; 4] {
+        let root = self.patches[p as usize].root;
+        if self.elements[root].is_leaf() {
+            self.split(root);
+        }
+        let kids: Vec<ElementKey> = self.elements[root].children.to_vec();
+        let surface = self.patches[p as usize].surface;
+        let mut ids = [p; 4];
+        for (i, &k) in kids.iter().enumerate() {
+            let id = if i == 0 {
+                p
+            } else {
+                self.patches.push(self.patches[p as usize].clone());
+                self.patches.len() as u32 - 1
+            };
+            ids[i] = id;
+            let e = &self.elements[k];
+            let (area, centroid, radiosity) = (e.area, e.centroid, e.radiosity);
+            let polygon = self.surfaces[surface as usize].polygon(&e.cell);
+            self.patches[id as usize] = Patch {
+                surface,
+                root: k,
+                polygon,
+                area,
+                centroid,
+                radiosity,
+            };
+            let mut stack = vec![k];
+            while let Some(x) = stack.pop() {
+                self.elements[x].patch = id;
+                stack.extend(self.elements[x].children.iter().copied());
+            }
+        }
+        ids
     }
 
     /// The leaf elements of patch `p`, depth first in child order.

@@ -8,14 +8,16 @@ mod stats;
 pub use progress::{Progress, Stage};
 pub use settings::Settings;
 pub use solution::{ObjectRadiosity, Solution};
-pub use stats::{EnergyBalance, HemicubeFigures, PassStats, SolveStats, StageSeconds};
+pub use stats::{
+    EnergyBalance, HemicubeFigures, PassStats, SolveStats, SourcePassStats, StageSeconds,
+};
 
 use crate::error::{Error, Result};
 use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
 use crate::formfactor::{compute_rows, RowSettings, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
-use crate::refine::mark_for_split;
+use crate::refine::{mark_for_split, mark_sources};
 use crate::scene::Scene;
 use crate::solve::{gather, gauss_seidel, PatchSystem};
 use std::sync::Arc;
@@ -53,7 +55,7 @@ pub fn solve(
         seed: settings.seed,
         method: settings.form_factors,
     };
-    let sources = Sources::from_mesh(&mesh);
+    let mut sources = Sources::from_mesh(&mesh);
     let mut hemicube = HemicubeStats::default();
 
     let leaves = mesh.leaves();
@@ -86,6 +88,56 @@ pub fn solve(
         done: 1,
         total: 1,
     });
+
+    if let (None, Some(source_tolerance)) = (refine.uniform_depth, refine.source_tolerance) {
+        for _ in 0..refine.source_passes {
+            let t_pass = Instant::now();
+            let mut marks = mark_sources(&mesh, source_tolerance, min_area, refine.max_patch_depth);
+            let room = settings.max_patches.saturating_sub(mesh.patches.len()) / 3;
+            marks.truncate(room);
+            if marks.is_empty() {
+                break;
+            }
+            for &p in &marks {
+                for id in mesh.split_patch(p) {
+                    // Give each new patch the initial element depth below it.
+                    let top = mesh.elements[mesh.patches[id as usize].root].depth;
+                    for k in mesh.patch_leaves(id) {
+                        if mesh.elements[k].depth < top + refine.initial_depth {
+                            split_to(&mut mesh, k, top + refine.initial_depth);
+                        }
+                    }
+                }
+            }
+            // Rows refer to patches, so every row is recomputed.
+            sources = Sources::from_mesh(&mesh);
+            let leaves = mesh.leaves();
+            let t = Instant::now();
+            compute_and_store_rows(
+                &mut mesh,
+                &sources,
+                &leaves,
+                &row_settings,
+                &mut hemicube,
+                0,
+                progress,
+            );
+            stats.seconds.form_factors += t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            system = PatchSystem::from_mesh(&mesh);
+            b = mesh.patches.iter().map(|p| p.radiosity).collect();
+            report = gauss_seidel(&system, &mut b, &settings.solver)?;
+            iterations += report.iterations;
+            totals = gather(&mut mesh, &b);
+            stats.seconds.solve += t.elapsed().as_secs_f64();
+            stats.source_passes.push(SourcePassStats {
+                patches_split: marks.len(),
+                patches: mesh.patches.len(),
+                elements: leaves.len(),
+                seconds: t_pass.elapsed().as_secs_f64(),
+            });
+        }
+    }
 
     if refine.uniform_depth.is_none() {
         for pass in 1..=refine.max_passes {
@@ -151,6 +203,16 @@ pub fn solve(
         system,
         stats,
     })
+}
+
+/// Splits the leaf `key` and its descendants down to `depth`.
+fn split_to(mesh: &mut Mesh, key: ElementKey, depth: u8) {
+    if mesh.elements[key].depth >= depth {
+        return;
+    }
+    for k in mesh.split(key) {
+        split_to(mesh, k, depth);
+    }
 }
 
 /// Splits every patch to `depth`, failing if that would exceed `max_elements`.

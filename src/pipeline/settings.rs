@@ -54,7 +54,7 @@ impl Settings {
     pub fn validate(&self) -> Result<()> {
         let bad = |name, message: String| Err(Error::Setting { name, message });
         let n = self.hemicube_resolution;
-        if !(8..=4096).contains(&n) || n % 2 != 0 {
+        if !(8..=4096).contains(&n) || !n.is_multiple_of(2) {
             return bad("hemicube-res", format!("must be even, 8 to 4096, got {n}"));
         }
         if let Some(p) = self.patch_size {

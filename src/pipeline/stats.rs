@@ -74,6 +74,19 @@ pub struct PassStats {
     pub blocked: usize,
 }
 
+/// One round of source-patch splitting.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SourcePassStats {
+    /// Patches split into four.
+    pub patches_split: usize,
+    /// Patches after the round.
+    pub patches: usize,
+    /// Leaf elements (all of which got new rows).
+    pub elements: usize,
+    /// Seconds the round took.
+    pub seconds: f64,
+}
+
 /// Everything the library measured.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct SolveStats {
@@ -95,6 +108,8 @@ pub struct SolveStats {
     pub total_iterations: usize,
     /// Energy balance of the final solution.
     pub energy: EnergyBalance,
+    /// Source-splitting rounds.
+    pub source_passes: Vec<SourcePassStats>,
     /// Refinement passes.
     pub passes: Vec<PassStats>,
     /// Largest remaining neighbour difference (relative), at the last check.

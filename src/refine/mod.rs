@@ -2,8 +2,10 @@
 //! tolerance, split them, keeping the quadtree balanced.
 
 mod criterion;
+mod sources;
 
 pub use criterion::{mark_for_split, Marks};
+pub use sources::mark_sources;
 
 use crate::error::{Error, Result};
 
@@ -26,6 +28,15 @@ pub struct RefineSettings {
     pub max_elements: usize,
     /// Most refinement passes.
     pub max_passes: usize,
+    /// Split a source patch whose own elements spread by more than this
+    /// fraction of the brightest reflected radiosity (its children become
+    /// patches). `None` never splits sources.
+    pub source_tolerance: Option<f64>,
+    /// Source-splitting rounds before element refinement (each recomputes every
+    /// row, since rows refer to patches).
+    pub source_passes: usize,
+    /// Deepest level, below the initial patch cut, that a patch may reach.
+    pub max_patch_depth: u8,
 }
 
 impl Default for RefineSettings {
@@ -38,6 +49,9 @@ impl Default for RefineSettings {
             min_element_area: None,
             max_elements: 200_000,
             max_passes: 8,
+            source_tolerance: Some(0.1),
+            source_passes: 2,
+            max_patch_depth: 2,
         }
     }
 }

@@ -39,9 +39,10 @@ pub fn gather(mesh: &mut Mesh, b: &[Rgb]) -> GatherTotals {
         totals.emitted += lattice.emission * e.area;
         totals.absorbed += (Rgb::ONE - lattice.reflectance) * *h * e.area;
     }
+    for k in mesh.top_roots.clone() {
+        push_up(mesh, k);
+    }
     for (p, bp) in b.iter().enumerate() {
-        let root = mesh.patches[p].root;
-        push_up(mesh, root);
         mesh.patches[p].radiosity = *bp;
     }
     totals

@@ -5,7 +5,6 @@ use super::faces::Face;
 use super::table::DeltaTable;
 use crate::formfactor::{point_to_polygon, FormFactorMethod, Row, Sources};
 use glam::{DVec2, DVec3};
-use smallvec::SmallVec;
 use std::sync::Arc;
 
 const NOTHING: u32 = u32::MAX;
@@ -198,23 +197,28 @@ impl Hemicube {
         if outside[..5].iter().any(|o| *o) {
             return;
         }
-        let pts: SmallVec<[DVec3; 8]> = if outside[5] {
-            SmallVec::from_slice(&mapped[..local.len()])
+        // Fixed stack arrays: a quad clipped by one plane has at most 5 vertices.
+        let mut clipped = [DVec3::ZERO; 8];
+        let count = if outside[5] {
+            clipped[..local.len()].copy_from_slice(&mapped[..local.len()]);
+            local.len()
         } else {
-            let clipped = clip_near(&mapped[..local.len()], near);
-            if clipped.len() < 3 {
-                return;
-            }
-            clipped
+            clip_near(&mapped[..local.len()], near, &mut clipped)
         };
+        if count < 3 {
+            return;
+        }
+        let pts = &clipped[..count];
         let n = self.table.n;
         let half = n as f64 * 0.5;
         let (width, height) = (n, if face.is_top() { n } else { n / 2 });
         let y_offset = if face.is_top() { 1.0 } else { 0.0 };
-        let screen: SmallVec<[DVec2; 8]> = pts
-            .iter()
-            .map(|p| DVec2::new((p.x / p.z + 1.0) * half, (p.y / p.z + y_offset) * half))
-            .collect();
+        let mut projected = [DVec2::ZERO; 8];
+        for (s, p) in projected.iter_mut().zip(pts) {
+            let inv = 1.0 / p.z;
+            *s = DVec2::new((p.x * inv + 1.0) * half, (p.y * inv + y_offset) * half);
+        }
+        let screen = &projected[..count];
         // 1/depth at pixel (i, j): u = (i + 0.5)/half - 1, w = (j + 0.5)/half - y_offset.
         let (du, dw) = (m.x / h / half, m.y / h / half);
         let base = (m.x * (0.5 / half - 1.0) + m.y * (0.5 / half - y_offset) + m.z) / h;
@@ -353,19 +357,22 @@ fn ceil_index(x: f64, limit: usize) -> usize {
     (if (t as f64) < x { t + 1 } else { t }) as usize
 }
 
-/// Sutherland-Hodgman against the plane depth = near.
-fn clip_near(pts: &[DVec3], near: f64) -> SmallVec<[DVec3; 8]> {
-    let mut out = SmallVec::new();
+/// Sutherland-Hodgman against the plane depth = near, into `out`; returns the
+/// vertex count.
+fn clip_near(pts: &[DVec3], near: f64, out: &mut [DVec3; 8]) -> usize {
+    let mut n = 0;
     for k in 0..pts.len() {
         let a = pts[k];
         let b = pts[(k + 1) % pts.len()];
         let (da, db) = (a.z - near, b.z - near);
         if da >= 0.0 {
-            out.push(a);
+            out[n] = a;
+            n += 1;
         }
         if (da >= 0.0) != (db >= 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
+            out[n] = a + (b - a) * (da / (da - db));
+            n += 1;
         }
     }
-    out
+    n
 }

@@ -27,7 +27,10 @@ impl DeltaTable {
     /// can make the iteration diverge.
     #[must_use]
     pub fn new(n: usize) -> Self {
-        assert!(n >= 2 && n % 2 == 0, "hemi-cube resolution must be even");
+        assert!(
+            n >= 2 && n.is_multiple_of(2),
+            "hemi-cube resolution must be even"
+        );
         let h = 2.0 / n as f64;
         let da = h * h;
         let centre = |i: usize| -1.0 + (i as f64 + 0.5) * h;
