@@ -69,7 +69,7 @@ pub struct SolveArgs {
     /// Hemi-cube resolution: pixels across the top face (even).
     #[arg(long = "hemicube-res", default_value_t = 128)]
     pub hemicube_res: usize,
-    /// Largest patch edge in metres [default: the scene's diagonal / 12].
+    /// Largest patch edge in metres [default: the scene's diagonal / 10].
     #[arg(long = "patch-size")]
     pub patch_size: Option<f64>,
     /// Gauss-Seidel stops when its error bound is below this fraction of the
@@ -85,10 +85,10 @@ pub struct SolveArgs {
     pub relaxation: f64,
     /// Split elements whose radiosity differs from a neighbour's by more than
     /// this fraction of the brightest reflected radiosity.
-    #[arg(long = "refine-tolerance", default_value_t = 0.02)]
+    #[arg(long = "refine-tolerance", default_value_t = 0.05)]
     pub refine_tolerance: f64,
     /// Deepest element level below a patch.
-    #[arg(long = "max-depth", default_value_t = 5)]
+    #[arg(long = "max-depth", default_value_t = 4)]
     pub max_depth: u8,
     /// Depth every patch is split to before the first solve.
     #[arg(long = "initial-depth", default_value_t = 1)]
@@ -101,8 +101,8 @@ pub struct SolveArgs {
     pub max_elements: usize,
     /// Split a source patch whose elements spread by more than this fraction of
     /// the brightest reflected radiosity (its children become patches); 0 never
-    /// splits sources.
-    #[arg(long = "source-tolerance", default_value_t = 0.1)]
+    /// splits sources. Try 0.1.
+    #[arg(long = "source-tolerance", default_value_t = 0.0)]
     pub source_tolerance: f64,
     /// Rounds of source splitting (each recomputes every row).
     #[arg(long = "source-passes", default_value_t = 2)]

@@ -7,9 +7,11 @@ mod point_polygon;
 mod row;
 mod rows;
 mod sources;
+mod visibility;
 
 pub use method::FormFactorMethod;
 pub use point_polygon::point_to_polygon;
 pub use row::Row;
 pub use rows::{compute_rows, element_seed, RowSettings};
 pub use sources::{SourcePolygon, Sources};
+pub use visibility::{Occluders, PixelHint};

@@ -1,7 +1,7 @@
 //! Element-to-patch rows for many receivers at once, in parallel.
 
 use super::hemicube::{DeltaTable, Hemicube, HemicubeStats};
-use super::{Row, Sources};
+use super::{Occluders, Row, Sources};
 use crate::mesh::{Cell, ElementKey, Mesh};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -16,6 +16,9 @@ pub struct RowSettings {
     pub seed: u64,
     /// How pixels become form factors.
     pub method: super::FormFactorMethod,
+    /// Ray cast the visibility of emitters the item buffer saw only in part
+    /// (hybrid method only).
+    pub emitter_rays: bool,
 }
 
 /// A well-mixed 64-bit hash (SplitMix64 finaliser).
@@ -62,6 +65,10 @@ pub fn compute_rows(
     let polygons = AtomicU64::new(0);
     let pixels = AtomicU64::new(0);
     let patches = mesh.patches.len();
+    let occluders = (settings.emitter_rays
+        && settings.method == super::FormFactorMethod::Hybrid
+        && !sources.emitters.is_empty())
+    .then(|| Occluders::new(sources));
     let rows = keys
         .par_iter()
         .map_init(
@@ -75,6 +82,7 @@ pub fn compute_rows(
                 // element's own size, so that the offset is scale invariant.
                 let eye = e.centroid + lattice.normal * (1e-6 * e.area.sqrt());
                 let before = cube.stats;
+                let rays = occluders.as_ref().map(|o| (o, h));
                 let row = cube.row(
                     sources,
                     eye,
@@ -82,6 +90,7 @@ pub fn compute_rows(
                     angle,
                     e.surface,
                     settings.method,
+                    rays,
                 );
                 polygons.fetch_add(
                     cube.stats.polygons_rasterized - before.polygons_rasterized,

@@ -25,6 +25,9 @@ pub struct SourcePolygon {
 pub struct Sources {
     /// One polygon per patch.
     pub polygons: Vec<SourcePolygon>,
+    /// Ids of the patches that emit (their visibility is ray cast where the
+    /// hemi-cube is unsure).
+    pub emitters: Vec<u32>,
 }
 
 impl Sources {
@@ -55,6 +58,9 @@ impl Sources {
                 }
             })
             .collect();
-        Sources { polygons }
+        let emitters = (0..mesh.patches.len() as u32)
+            .filter(|&p| mesh.patch_emission(p).max_band() > 0.0)
+            .collect();
+        Sources { polygons, emitters }
     }
 }

@@ -84,8 +84,14 @@ impl SurfaceLattice {
                 .length()
                 .max((v[2] - v[1]).length())
                 .max((v[0] - v[2]).length());
+            // A right triangle cut into patches whose legs match the quads'
+            // patch size has hypotenuses sqrt(2) times longer; measuring the
+            // longest edge against that keeps triangle patches as large as quad
+            // patches instead of a factor 4 smaller.
             let mut level = 0u32;
-            while longest / f64::from(1u32 << level) > patch_size && level < 9 {
+            while longest / f64::from(1u32 << level) > patch_size * std::f64::consts::SQRT_2
+                && level < 9
+            {
                 level += 1;
             }
             let extent = root << level;

@@ -54,6 +54,7 @@ pub fn solve(
         table: Arc::new(DeltaTable::new(settings.hemicube_resolution)),
         seed: settings.seed,
         method: settings.form_factors,
+        emitter_rays: settings.emitter_rays,
     };
     let mut sources = Sources::from_mesh(&mesh);
     let mut hemicube = HemicubeStats::default();

@@ -17,6 +17,9 @@ pub struct Settings {
     pub seed: u64,
     /// How hemi-cube pixels become form factors.
     pub form_factors: FormFactorMethod,
+    /// Ray cast the visibility of emitters that a hemi-cube saw only in part,
+    /// so that penumbrae are not limited to the hemi-cube's pixels.
+    pub emitter_rays: bool,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
     /// Refinement.
@@ -32,6 +35,7 @@ impl Default for Settings {
             patch_size: None,
             seed: 1,
             form_factors: FormFactorMethod::default(),
+            emitter_rays: true,
             solver: SolverSettings::default(),
             refine: RefineSettings::default(),
             max_patches: 50_000,
@@ -40,7 +44,7 @@ impl Default for Settings {
 }
 
 /// The default patch size is the scene's bounding-box diagonal over this.
-pub const PATCHES_PER_DIAMETER: f64 = 12.0;
+pub const PATCHES_PER_DIAMETER: f64 = 10.0;
 
 impl Settings {
     /// The patch size to use for `scene`.

@@ -44,12 +44,14 @@ impl Default for RefineSettings {
         RefineSettings {
             uniform_depth: None,
             initial_depth: 1,
-            tolerance: 0.02,
-            max_depth: 5,
+            tolerance: 0.05,
+            max_depth: 4,
             min_element_area: None,
             max_elements: 200_000,
             max_passes: 8,
-            source_tolerance: Some(0.1),
+            // Off by default: with exposure-weighted patch rows, smaller patches
+            // buy more accuracy per second on the Cornell box (see the README).
+            source_tolerance: None,
             source_passes: 2,
             max_patch_depth: 2,
         }

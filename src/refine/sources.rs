@@ -24,7 +24,12 @@ pub fn mark_sources(mesh: &Mesh, tolerance: f64, min_area: f64, max_patch_depth:
         if root.depth >= max_patch_depth || patch.area * 0.25 < min_area {
             continue;
         }
-        let leaves = mesh.patch_leaves(p as u32);
+        // Only exposed elements count: hidden ones take no part in the exchange.
+        let leaves: Vec<_> = mesh
+            .patch_leaves(p as u32)
+            .into_iter()
+            .filter(|k| !mesh.elements[*k].row.is_empty())
+            .collect();
         if leaves.len() < 2 {
             continue;
         }

@@ -5,6 +5,13 @@ use crate::mesh::Mesh;
 
 /// Patch rows `F_ij = (1 / A_i) sum_e A_e F_ej` with the reflectance and
 /// emission of each patch.
+///
+/// The sums run over the patch's *exposed* elements: those whose hemi-cube saw
+/// some front face. An element that sees nothing (a floor element under a box
+/// standing on it sees only the box's back faces) is, by reciprocity, seen by
+/// nothing, so it takes no part in the exchange; counting its area would dilute
+/// the patch's radiosity as a source and darken everything the patch lights.
+/// A patch with no exposed element keeps an empty row.
 #[derive(Clone, Debug, Default)]
 pub struct PatchSystem {
     /// Sparse rows, `(j, F_ij)` in increasing `j`.
@@ -35,8 +42,14 @@ impl PatchSystem {
         let mut dense: Vec<f64> = Vec::new();
         let mut touched: Vec<u32> = Vec::new();
         for &p in patches {
-            let area = mesh.patches[p as usize].area;
-            for k in mesh.patch_leaves(p) {
+            let leaves = mesh.patch_leaves(p);
+            let area: f64 = leaves
+                .iter()
+                .map(|k| &mesh.elements[*k])
+                .filter(|e| !e.row.is_empty())
+                .map(|e| e.area)
+                .sum();
+            for k in leaves {
                 let e = &mesh.elements[k];
                 let w = e.area / area;
                 for &(j, f) in e.row.entries() {

@@ -50,6 +50,7 @@ fn one_row(
     angle: f64,
 ) -> Vec<f64> {
     let sources = Sources {
+        emitters: Vec::new(),
         polygons: polys
             .iter()
             .enumerate()
@@ -57,7 +58,7 @@ fn one_row(
             .collect(),
     };
     let mut cube = Hemicube::new(Arc::new(DeltaTable::new(256)), polys.len());
-    let row = cube.row(&sources, eye, normal, angle, 0, method);
+    let row = cube.row(&sources, eye, normal, angle, 0, method, None);
     (0..polys.len() as u32).map(|j| row.get(j)).collect()
 }
 

@@ -3,7 +3,7 @@
 
 use super::faces::Face;
 use super::table::DeltaTable;
-use crate::formfactor::{point_to_polygon, FormFactorMethod, Row, Sources};
+use crate::formfactor::{point_to_polygon, FormFactorMethod, Occluders, PixelHint, Row, Sources};
 use glam::{DVec2, DVec3};
 use std::sync::Arc;
 
@@ -68,7 +68,10 @@ impl Hemicube {
     /// every patch of `sources`, skipping patches on `own_surface` (a planar
     /// surface cannot see itself). `angle` rotates the hemi-cube about the normal,
     /// which decorrelates the aliasing of neighbouring receivers. `method` says
-    /// how pixels become form factors.
+    /// how pixels become form factors. With `emitter_rays` (the occluders and a
+    /// seed), the hybrid method ray casts the visibility of emitters that the
+    /// item buffer saw only in part.
+    #[allow(clippy::too_many_arguments)]
     pub fn row(
         &mut self,
         sources: &Sources,
@@ -77,6 +80,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
         method: FormFactorMethod,
+        emitter_rays: Option<(&Occluders, u64)>,
     ) -> Row {
         self.clear();
         let t0 = normal.any_orthonormal_vector();
@@ -123,7 +127,7 @@ impl Hemicube {
         }
         let mut row = self.accumulate();
         if method == FormFactorMethod::Hybrid {
-            row = self.hybrid(row, sources, eye, normal);
+            row = self.hybrid(row, sources, eye, normal, own_surface, emitter_rays);
         }
         for id in self.covered_touched.drain(..) {
             self.covered[id as usize] = 0.0;
@@ -133,7 +137,15 @@ impl Hemicube {
 
     /// Replaces each won pixel sum by the exact unoccluded form factor times the
     /// fraction of the patch's covered pixels it won.
-    fn hybrid(&self, row: Row, sources: &Sources, eye: DVec3, normal: DVec3) -> Row {
+    fn hybrid(
+        &self,
+        row: Row,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        own_surface: u32,
+        emitter_rays: Option<(&Occluders, u64)>,
+    ) -> Row {
         let mut entries: Vec<(u32, f64)> = row
             .entries()
             .iter()
@@ -149,6 +161,39 @@ impl Hemicube {
                 (id, exact * visible)
             })
             .collect();
+        if let Some((occluders, seed)) = emitter_rays {
+            let mut changed = false;
+            for &j in &sources.emitters {
+                let poly = &sources.polygons[j as usize];
+                let (won, covered) = (row.get(j), self.covered[j as usize]);
+                if poly.surface == own_surface {
+                    continue;
+                }
+                let exact = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
+                if exact <= 0.0 {
+                    continue;
+                }
+                let hint = if covered <= 0.0 {
+                    PixelHint::Unseen
+                } else if won >= covered * (1.0 - 1e-6) {
+                    PixelHint::Whole
+                } else if won > 0.0 {
+                    PixelHint::Partial
+                } else {
+                    PixelHint::Hidden
+                };
+                let visible =
+                    occluders.visible_fraction(sources, eye, normal, own_surface, j, seed, hint);
+                match entries.binary_search_by_key(&j, |e| e.0) {
+                    Ok(i) => entries[i].1 = exact * visible,
+                    Err(i) => entries.insert(i, (j, exact * visible)),
+                }
+                changed = true;
+            }
+            if changed {
+                entries.retain(|e| e.1 > 0.0);
+            }
+        }
         let sum: f64 = entries.iter().map(|e| e.1).sum();
         if sum > 1.0 {
             for e in &mut entries {

@@ -1,0 +1,245 @@
+//! Ray-cast visibility of emitters from a receiving point.
+//!
+//! The hemi-cube knows visibility only to a pixel: a light partly hidden by an
+//! occluder is seen through a staircase of pixels, and the shadow's penumbra
+//! inherits that staircase however finely the receivers are subdivided. For
+//! emitter patches that a hemi-cube saw only in part (or not at all, though they
+//! lie above the receiver's horizon), the visible fraction is instead measured by
+//! casting rays to stratified, jittered points on the emitter, weighted by the
+//! form-factor kernel. Rays go through a BVH (the `obvhs` crate) over the patch
+//! polygons; every hit is decided in double precision against the polygon.
+
+use super::Sources;
+use glam::DVec3;
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::ray::Ray;
+use obvhs::{Boundable, BvhBuildParams};
+use std::time::Duration;
+
+struct Bounds(Aabb);
+
+impl Boundable for Bounds {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+/// What the item buffer saw of an emitter patch, which sets how far the rays
+/// must go before their answer is trusted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PixelHint {
+    /// Every pixel it covered it won. An occluder may still hide less than a
+    /// pixel row of it, so 4 x 4 rays check; any blocked ray means a full count.
+    Whole,
+    /// It covered pixels but won none: 8 x 8 rays, trusted if all are blocked.
+    Hidden,
+    /// It won some of its pixels: 16 x 16 rays.
+    Partial,
+    /// Too small to cover a pixel centre: 8 x 8 rays, trusted if they agree.
+    Unseen,
+}
+
+/// Every patch polygon as an occluder, for shadow rays.
+pub struct Occluders {
+    bvh: Bvh2,
+    /// Coordinates are stored relative to this centre so that the BVH's single
+    /// precision boxes keep their accuracy far from the origin.
+    centre: DVec3,
+    pad: f64,
+}
+
+impl std::fmt::Debug for Occluders {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Occluders")
+            .field("centre", &self.centre)
+            .finish()
+    }
+}
+
+/// A small hash-based random number in [0, 1) from a 64-bit state.
+fn unit(state: &mut u64) -> f64 {
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^= z >> 31;
+    (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// The point of a polygon at parameters (s, t) in the unit square: bilinear for
+/// a quad, the square folded onto the triangle for a triangle.
+fn point_on(v: &[DVec3], s: f64, t: f64) -> DVec3 {
+    if v.len() == 4 {
+        v[0].lerp(v[1], s).lerp(v[3].lerp(v[2], s), t)
+    } else {
+        let (s, t) = if s + t > 1.0 {
+            (1.0 - s, 1.0 - t)
+        } else {
+            (s, t)
+        };
+        v[0] + (v[1] - v[0]) * s + (v[2] - v[0]) * t
+    }
+}
+
+impl Occluders {
+    /// A BVH over every patch polygon of `sources`.
+    #[must_use]
+    pub fn new(sources: &Sources) -> Self {
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for p in &sources.polygons {
+            for v in &p.vertices[..p.count as usize] {
+                lo = lo.min(*v);
+                hi = hi.max(*v);
+            }
+        }
+        let centre = (lo + hi) * 0.5;
+        let pad = 4e-6 * (hi - lo).length().max(f64::MIN_POSITIVE);
+        let boxes: Vec<Bounds> = sources
+            .polygons
+            .iter()
+            .map(|p| {
+                let v = &p.vertices[..p.count as usize];
+                let a = v.iter().fold(DVec3::splat(f64::INFINITY), |m, x| m.min(*x));
+                let b = v
+                    .iter()
+                    .fold(DVec3::splat(f64::NEG_INFINITY), |m, x| m.max(*x));
+                Bounds(Aabb::new(
+                    (a - centre - DVec3::splat(pad)).as_vec3a(),
+                    (b - centre + DVec3::splat(pad)).as_vec3a(),
+                ))
+            })
+            .collect();
+        let bvh = obvhs::bvh2::builder::build_bvh2(
+            &boxes,
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        Occluders { bvh, centre, pad }
+    }
+
+    /// True when no polygon (other than those on the two skipped surfaces)
+    /// crosses the open segment from `a` to `b`.
+    fn clear(&self, sources: &Sources, a: DVec3, b: DVec3, skip: [u32; 2]) -> bool {
+        let span = b - a;
+        let length = span.length();
+        if length <= 0.0 {
+            return true;
+        }
+        let dir = span / length;
+        let ray = Ray::new(
+            (a - self.centre).as_vec3a(),
+            dir.as_vec3a(),
+            0.0,
+            (length + self.pad) as f32,
+        );
+        self.bvh.ray_traverse_miss(ray, |_, slot| {
+            let id = self.bvh.primitive_indices[slot] as usize;
+            let p = &sources.polygons[id];
+            if skip.contains(&p.surface) {
+                return f32::INFINITY;
+            }
+            if crosses(&p.vertices[..p.count as usize], p.normal, a, dir, length) {
+                0.0
+            } else {
+                f32::INFINITY
+            }
+        })
+    }
+
+    /// The fraction of the form factor from (`eye`, `normal`) to patch `target`
+    /// that is not blocked, estimated with stratified jittered rays weighted by
+    /// the point-to-point kernel. A first, small set of rays is trusted only
+    /// when its rays agree with each other and with what the item buffer saw
+    /// (`hint`); otherwise 16 x 16 rays decide, since a thin visible or hidden
+    /// sliver can slip between the first samples.
+    #[must_use]
+    #[allow(clippy::too_many_arguments)]
+    pub fn visible_fraction(
+        &self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        own_surface: u32,
+        target: u32,
+        seed: u64,
+        hint: PixelHint,
+    ) -> f64 {
+        let poly = &sources.polygons[target as usize];
+        let v = &poly.vertices[..poly.count as usize];
+        let skip = [own_surface, poly.surface];
+        let mut state = seed ^ (u64::from(target) << 32);
+        let sample = |n: usize, state: &mut u64| {
+            let (mut seen, mut total) = (0.0, 0.0);
+            let mut all_same = true;
+            let mut first: Option<bool> = None;
+            for i in 0..n {
+                for j in 0..n {
+                    let s = (i as f64 + unit(state)) / n as f64;
+                    let t = (j as f64 + unit(state)) / n as f64;
+                    let x = point_on(v, s, t);
+                    let d = x - eye;
+                    let r2 = d.length_squared();
+                    let w = (normal.dot(d) * -poly.normal.dot(d)).max(0.0) / (r2 * r2);
+                    if w <= 0.0 {
+                        continue;
+                    }
+                    let open = self.clear(sources, eye, x, skip);
+                    all_same &= first.is_none_or(|f| f == open);
+                    first.get_or_insert(open);
+                    total += w;
+                    if open {
+                        seen += w;
+                    }
+                }
+            }
+            (seen, total, all_same)
+        };
+        let first = match hint {
+            PixelHint::Whole => 4,
+            PixelHint::Hidden | PixelHint::Unseen => 8,
+            PixelHint::Partial => 0,
+        };
+        if first > 0 {
+            let (seen, total, all_same) = sample(first, &mut state);
+            if total <= 0.0 {
+                return 0.0;
+            }
+            let all_open = all_same && seen > 0.0;
+            let all_blocked = all_same && seen == 0.0;
+            let trusted = match hint {
+                PixelHint::Whole => all_open,
+                PixelHint::Hidden => all_blocked,
+                PixelHint::Unseen => all_same,
+                PixelHint::Partial => false,
+            };
+            if trusted {
+                return seen / total;
+            }
+        }
+        let (seen, total, _) = sample(32, &mut state);
+        if total > 0.0 {
+            seen / total
+        } else {
+            0.0
+        }
+    }
+}
+
+/// True when the segment from `a` along unit `dir`, open at both ends (a
+/// relative margin keeps surfaces at the endpoints from counting), crosses the
+/// convex planar polygon `v` with unit `normal`.
+fn crosses(v: &[DVec3], normal: DVec3, a: DVec3, dir: DVec3, length: f64) -> bool {
+    let denom = normal.dot(dir);
+    if denom.abs() < 1e-15 {
+        return false;
+    }
+    let t = normal.dot(v[0] - a) / denom;
+    let margin = 1e-9 * length;
+    if t <= margin || t >= length - margin {
+        return false;
+    }
+    let p = a + dir * t;
+    let m = v.len();
+    (0..m).all(|i| (v[(i + 1) % m] - v[i]).cross(p - v[i]).dot(normal) >= 0.0)
+}
