@@ -1,7 +1,12 @@
 //! The integration test suite, one binary with a module per theme (one link
 //! step instead of many on a small machine).
 
+mod awkward_geometry;
 mod common;
 mod enclosures;
 mod hemicube;
+mod random_scenes;
+mod scale;
+mod stability;
+mod stress_scenes;
 mod substructuring;
