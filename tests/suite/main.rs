@@ -3,8 +3,10 @@
 
 mod awkward_geometry;
 mod common;
+mod determinism;
 mod enclosures;
 mod hemicube;
+mod hostile_files;
 mod random_scenes;
 mod scale;
 mod stability;
