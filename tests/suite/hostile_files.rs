@@ -614,3 +614,31 @@ fn the_element_budget_is_an_error_up_front_and_a_cap_when_adapting() {
         "the budget must show as blocked splits"
     );
 }
+
+#[test]
+fn a_tiny_file_cannot_claim_millions_of_zero_vertices() {
+    // An accessor without a buffer view reads as zeros (glTF): its count costs
+    // the file nothing. 6 million of them in a 250-byte file are refused
+    // before they are allocated (they used to take 511 MiB).
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "accessors": [{
+            "componentType": 5126, "count": 6_000_000, "type": "VEC3",
+            "min": [0.0, 0.0, 0.0], "max": [0.0, 0.0, 0.0]
+        }],
+        "meshes": [{"name": "zeros", "primitives": [{"attributes": {"POSITION": 0}}]}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    });
+    let path = dir().join("zeros.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let (result, peak) = peak_bytes(|| load_scene(&path, &ImportLimits::default()));
+    let text = result.unwrap_err().to_string();
+    assert!(
+        text.contains("zeros.gltf") && text.contains("accessor 0"),
+        "{text}"
+    );
+    assert!(text.contains("out of proportion"), "{text}");
+    assert!(peak < 1 << 20, "{peak} bytes");
+}
