@@ -249,3 +249,25 @@ fn the_accelerated_solver_agrees_with_a_direct_solve_within_its_bound() {
         assert!(report.error_bound <= 1e-9 * largest * (1.0 + 1e-9));
     }
 }
+
+#[test]
+fn hybrid_rows_of_a_closed_box_sum_to_one_even_with_patches_smaller_than_a_pixel() {
+    // At 32 pixels a face, distant patches seen at grazing angles fall between
+    // pixel centres; each still gets its exact form factor if visible, so a
+    // closed scene's rows sum to 1 (they lost up to 2e-3 before).
+    let settings = Settings {
+        hemicube_resolution: 32,
+        patch_size: Some(0.1),
+        refine: radiosity::refine::RefineSettings {
+            uniform_depth: Some(0),
+            ..Default::default()
+        },
+        ..Settings::default()
+    };
+    let sol = radiosity::solve(&furnace(0.5), &settings, &|_| {}).unwrap();
+    let worst = leaves(&sol)
+        .iter()
+        .map(|e| (e.row.sum() - 1.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "row sum off by {worst}");
+}

@@ -192,8 +192,8 @@ impl Hemicube {
     /// Whether the patch `id`, whose centroid is `local` in the hemi-cube's
     /// frame and `world` in the scene, is visible from `eye` along the ray to
     /// its centroid: true if the pixel that ray falls in holds nothing, a patch of
-    /// the same (planar) surface, or a patch whose plane the ray meets no nearer
-    /// than the centroid. A back face, whose plane is not kept, is compared by
+    /// the same (planar) surface, or a patch whose plane the ray does not meet
+    /// between the eye and the centroid. A back face, whose plane is not kept, is compared by
     /// the depth stored at the pixel centre.
     fn sample_visible(
         &self,
@@ -247,9 +247,10 @@ impl Hemicube {
         if towards == 0.0 {
             return true;
         }
-        // The ray eye + s (world - eye) meets the winner's plane at s.
+        // The ray eye + s (world - eye) meets the winner's plane at s: it
+        // hides the patch only between the eye and the centroid.
         let s = w.normal.dot(w.vertices[0] - eye) / towards;
-        s >= 1.0 - 1e-9
+        !(s > 0.0 && s < 1.0 - 1e-9)
     }
 
     fn clear(&mut self) {
