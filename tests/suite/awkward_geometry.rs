@@ -358,16 +358,10 @@ fn no_light_leaks_under_a_box_standing_on_the_floor() {
     let sol = radiosity::solve(&scene, &quick_settings(0.3), &|_| {}).unwrap();
     assert_finite_non_negative(&sol, "box on floor");
     let leaked = assert_no_light_under_the_box(&sol, "box on floor");
-    eprintln!(
-        "box on floor: {} patches {} elements {:.2}s ff {:.2}s",
-        sol.stats.patches,
-        sol.stats.elements,
-        sol.stats.seconds.total,
-        sol.stats.seconds.form_factors
-    );
     let footprint = (BOX_X.1 - BOX_X.0) * (BOX_Z.1 - BOX_Z.0);
     eprintln!(
-        "box on floor: straddling elements show {:.2}% of the footprint lit",
+        "box on floor: {} elements; straddling elements show {:.2}% of the footprint lit",
+        sol.stats.elements,
         100.0 * leaked / footprint
     );
     // The box's bottom face lies on the floor facing down: it sees nothing.
