@@ -27,6 +27,45 @@ pub enum PatchGrid {
     },
 }
 
+/// Patches along the two edge directions of a quad (vertex 0 to 1 and 0 to 3)
+/// so that none is longer than `patch_size`, each clamped to `1..=2^18`.
+fn quad_divisions(v: &[DVec3], patch_size: f64) -> (u32, u32) {
+    let along = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| {
+        let len = (b - a).length().max((c - d).length());
+        ((len / patch_size).ceil() as u32).clamp(1, 1 << 18)
+    };
+    (along(v[0], v[1], v[2], v[3]), along(v[0], v[3], v[2], v[1]))
+}
+
+/// How many times a triangle is cut into four so that no patch edge is longer
+/// than `patch_size` (at most 9).
+fn triangle_level(v: &[DVec3], patch_size: f64) -> u32 {
+    let longest = (v[1] - v[0])
+        .length()
+        .max((v[2] - v[1]).length())
+        .max((v[0] - v[2]).length());
+    // A right triangle cut into patches whose legs match the quads' patch size
+    // has hypotenuses sqrt(2) times longer; measuring the longest edge against
+    // that keeps triangle patches as large as quad patches, not 4 times smaller.
+    let mut level = 0u32;
+    while longest / f64::from(1u32 << level) > patch_size * std::f64::consts::SQRT_2 && level < 9 {
+        level += 1;
+    }
+    level
+}
+
+/// The number of patches [`SurfaceLattice::new`] cuts `surface` into, computed
+/// without allocating them (a tiny patch size can ask for 2^36 of them).
+pub(crate) fn patch_count(surface: &Surface, patch_size: f64) -> u64 {
+    let v = &surface.vertices;
+    if v.len() == 4 {
+        let (nu, nv) = quad_divisions(v, patch_size);
+        u64::from(nu) * u64::from(nv)
+    } else {
+        1u64 << (2 * triangle_level(v, patch_size))
+    }
+}
+
 /// One surface's lattice and the material values its elements share.
 #[derive(Clone, Debug)]
 pub struct SurfaceLattice {
@@ -62,13 +101,8 @@ impl SurfaceLattice {
         let v = &surface.vertices;
         let root = 1u32 << MAX_DEPTH;
         let (grid, extent, cells) = if v.len() == 4 {
-            let along = |a: DVec3, b: DVec3, c: DVec3, d: DVec3| {
-                let len = (b - a).length().max((c - d).length());
-                ((len / patch_size).ceil() as u32).clamp(1, 1 << 18)
-            };
-            let nu = along(v[0], v[1], v[2], v[3]);
-            let nv = along(v[0], v[3], v[2], v[1]);
-            let mut cells = Vec::with_capacity((nu * nv) as usize);
+            let (nu, nv) = quad_divisions(v, patch_size);
+            let mut cells = Vec::with_capacity(nu as usize * nv as usize);
             for j in 0..nv {
                 for i in 0..nu {
                     cells.push(Cell::Quad {
@@ -80,20 +114,7 @@ impl SurfaceLattice {
             }
             (PatchGrid::Quad { nu, nv }, (nu * root, nv * root), cells)
         } else {
-            let longest = (v[1] - v[0])
-                .length()
-                .max((v[2] - v[1]).length())
-                .max((v[0] - v[2]).length());
-            // A right triangle cut into patches whose legs match the quads'
-            // patch size has hypotenuses sqrt(2) times longer; measuring the
-            // longest edge against that keeps triangle patches as large as quad
-            // patches instead of a factor 4 smaller.
-            let mut level = 0u32;
-            while longest / f64::from(1u32 << level) > patch_size * std::f64::consts::SQRT_2
-                && level < 9
-            {
-                level += 1;
-            }
+            let level = triangle_level(v, patch_size);
             let extent = root << level;
             let mut cells = vec![Cell::Tri {
                 a: 0,

@@ -54,6 +54,15 @@ impl Mesh {
         };
         for (si, surface) in scene.surfaces.iter().enumerate() {
             let material = scene.material_of(surface);
+            // Counted before the cells are made: a tiny patch size would
+            // otherwise allocate billions of them before the check.
+            let needed = lattice::patch_count(surface, patch_size);
+            if mesh.patches.len() as u64 + needed > max_patches as u64 {
+                return Err(Error::Limit(format!(
+                    "more than {max_patches} patches at patch size {patch_size} m \
+                     (surface {si} alone needs {needed}); raise the patch size or the limit"
+                )));
+            }
             let (lattice, cells) = SurfaceLattice::new(
                 surface,
                 material.reflectance,
@@ -61,13 +70,6 @@ impl Mesh {
                 patch_size,
                 mesh.patches.len() as u32,
             );
-            if mesh.patches.len() + cells.len() > max_patches {
-                return Err(Error::Limit(format!(
-                    "more than {max_patches} patches at patch size {patch_size} m \
-                     (surface {si} alone needs {}); raise the patch size or the limit",
-                    cells.len()
-                )));
-            }
             mesh.surfaces.push(lattice);
             for cell in cells {
                 let patch = mesh.patches.len() as u32;

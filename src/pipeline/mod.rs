@@ -1,10 +1,12 @@
 //! The whole solve: mesh, form factors, coarse solve, gather, refine, repeat.
 
+mod coplanar;
 mod progress;
 mod settings;
 mod solution;
 mod stats;
 
+pub use coplanar::COPLANAR_GAP;
 pub use progress::{Progress, Stage};
 pub use settings::Settings;
 pub use solution::{ObjectRadiosity, Solution};
@@ -36,6 +38,7 @@ pub fn solve(
             scene.name
         )));
     }
+    coplanar::check_coplanar_overlaps(scene)?;
     let started = Instant::now();
     let mut stats = SolveStats::default();
     let patch_size = settings.patch_size_for(scene);

@@ -10,5 +10,7 @@ mod gauss_seidel;
 mod system;
 
 pub use gather::{gather, GatherTotals};
-pub use gauss_seidel::{gauss_seidel, SolveReport, SolverSettings};
+pub use gauss_seidel::{
+    gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS, STALL_SWEEPS,
+};
 pub use system::PatchSystem;

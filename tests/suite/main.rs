@@ -2,7 +2,14 @@
 //! step instead of many on a small machine).
 
 mod adaptive;
+mod awkward_geometry;
 mod common;
+mod determinism;
 mod enclosures;
 mod hemicube;
+mod hostile_files;
+mod random_scenes;
+mod scale;
+mod stability;
+mod stress_scenes;
 mod substructuring;

@@ -35,6 +35,9 @@ pub struct Hemicube {
     /// Delta form factors of every pixel a front face covered, won or not.
     covered: Vec<f64>,
     covered_touched: Vec<u32>,
+    /// Front faces that covered no pixel centre (hybrid method only): patch id
+    /// and its vertex mean in local and in world coordinates.
+    subpixel: Vec<(u32, DVec3, DVec3)>,
     /// Per-row span limits of the polygon being scan converted.
     span_left: Vec<f64>,
     span_right: Vec<f64>,
@@ -58,6 +61,7 @@ impl Hemicube {
             touched: Vec::new(),
             covered: vec![0.0; patches],
             covered_touched: Vec::new(),
+            subpixel: Vec::new(),
             span_left: vec![f64::INFINITY; n],
             span_right: vec![f64::NEG_INFINITY; n],
             stats: HemicubeStats::default(),
@@ -124,6 +128,11 @@ impl Hemicube {
             for (fi, face) in Face::ALL.iter().enumerate() {
                 self.rasterize(*face, fi, &local[..count], face.map(m), h, near, item);
             }
+            if method == FormFactorMethod::Hybrid && item != BACK_FACE && self.covered[id] == 0.0 {
+                let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
+                self.subpixel
+                    .push((item, mean(&local[..count]), mean(&poly.vertices[..count])));
+            }
         }
         let mut row = self.accumulate();
         if method == FormFactorMethod::Hybrid {
@@ -137,8 +146,15 @@ impl Hemicube {
 
     /// Replaces each won pixel sum by the exact unoccluded form factor times the
     /// fraction of the patch's covered pixels it won.
+    ///
+    /// A patch whose projection falls between pixel centres covers no pixel and
+    /// would get no form factor at all; in a closed scene those losses add up
+    /// (row sums 1 - 2e-3 next to a wall, a furnace 2% dark at rho = 0.999). Its
+    /// visibility is instead sampled along the ray to its centroid, against what
+    /// won the pixel that ray falls in: it gets its exact form factor unless that
+    /// is nearer.
     fn hybrid(
-        &self,
+        &mut self,
         row: Row,
         sources: &Sources,
         eye: DVec3,
@@ -161,6 +177,20 @@ impl Hemicube {
                 (id, exact * visible)
             })
             .collect();
+        let subpixel = std::mem::take(&mut self.subpixel);
+        let before = entries.len();
+        for &(id, centroid, world) in &subpixel {
+            if self.sample_visible(sources, id, eye, centroid, world) {
+                let poly = &sources.polygons[id as usize];
+                let exact = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
+                entries.push((id, exact));
+            }
+        }
+        self.subpixel = subpixel; // keeps its capacity; cleared per row
+
+        if entries.len() > before {
+            entries.sort_unstable_by_key(|e| e.0);
+        }
         if let Some((occluders, seed)) = emitter_rays {
             let mut changed = false;
             for &j in &sources.emitters {
@@ -203,11 +233,76 @@ impl Hemicube {
         Row::from_sorted(entries.into_iter().map(|(i, f)| (i, f as f32)).collect())
     }
 
+    /// Whether the patch `id`, whose centroid is `local` in the hemi-cube's
+    /// frame and `world` in the scene, is visible from `eye` along the ray to
+    /// its centroid: true if the pixel that ray falls in holds nothing, a patch of
+    /// the same (planar) surface, or a patch whose plane the ray does not meet
+    /// between the eye and the centroid. A back face, whose plane is not kept, is compared by
+    /// the depth stored at the pixel centre.
+    fn sample_visible(
+        &self,
+        sources: &Sources,
+        id: u32,
+        eye: DVec3,
+        local: DVec3,
+        world: DVec3,
+    ) -> bool {
+        let a = local.abs();
+        let (fi, face) = if local.z >= a.x.max(a.y) {
+            (0, Face::Top)
+        } else if a.x >= a.y {
+            if local.x > 0.0 {
+                (1, Face::PosX)
+            } else {
+                (2, Face::NegX)
+            }
+        } else if local.y > 0.0 {
+            (3, Face::PosY)
+        } else {
+            (4, Face::NegY)
+        };
+        let p = face.map(local);
+        if p.z <= 0.0 || (!face.is_top() && p.y < 0.0) {
+            return false; // behind the eye or below the horizon
+        }
+        let n = self.table.n;
+        let half = n as f64 * 0.5;
+        let (height, y_offset) = if face.is_top() {
+            (n, 1.0)
+        } else {
+            (n / 2, 0.0)
+        };
+        let pixel = |s: f64, limit: usize| ((s * half).max(0.0) as usize).min(limit - 1);
+        let px = pixel(p.y / p.z + y_offset, height) * n + pixel(p.x / p.z + 1.0, n);
+        let winner = self.items[fi][px];
+        if winner == NOTHING {
+            return true;
+        }
+        if winner == BACK_FACE {
+            let stored = f64::from(self.depth[fi][px]);
+            // The stored value carries up to a span of single-precision steps.
+            return 1.0 / p.z >= stored * (1.0 - 4.0 * n as f64 * f64::from(f32::EPSILON));
+        }
+        let w = &sources.polygons[winner as usize];
+        if w.surface == sources.polygons[id as usize].surface {
+            return true;
+        }
+        let towards = w.normal.dot(world - eye);
+        if towards == 0.0 {
+            return true;
+        }
+        // The ray eye + s (world - eye) meets the winner's plane at s: it
+        // hides the patch only between the eye and the centroid.
+        let s = w.normal.dot(w.vertices[0] - eye) / towards;
+        !(s > 0.0 && s < 1.0 - 1e-9)
+    }
+
     fn clear(&mut self) {
         for f in 0..5 {
             self.items[f].fill(NOTHING);
             self.depth[f].fill(0.0);
         }
+        self.subpixel.clear();
         self.stats.hemicubes += 1;
     }
 
