@@ -1,10 +1,12 @@
 //! The whole solve: mesh, form factors, coarse solve, gather, refine, repeat.
 
+mod probe;
 mod progress;
 mod settings;
 mod solution;
 mod stats;
 
+pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
 pub use progress::{Progress, Stage};
 pub use settings::Settings;
 pub use solution::{ObjectRadiosity, Solution};
