@@ -2,6 +2,7 @@
 
 mod args;
 mod camera_arg;
+mod probe_cmd;
 mod progress_bar;
 mod solve_cmd;
 
@@ -23,5 +24,6 @@ pub fn run() -> Result<()> {
     match command {
         Command::Solve(a) => solve_cmd::run(&a),
         Command::ExportScene(a) => solve_cmd::export_scene(&a),
+        Command::Probe(a) => probe_cmd::run(&a),
     }
 }
