@@ -4,4 +4,9 @@
 mod common;
 mod enclosures;
 mod hemicube;
+mod penumbra;
+mod penumbra_failure;
+mod penumbra_golden;
+mod penumbra_metrics;
+mod probe;
 mod substructuring;
