@@ -271,7 +271,10 @@ fn unwritable_scenes_and_names_are_output_errors() {
 
 #[test]
 fn built_in_scenes_are_listed_by_name() {
-    assert!(scenes::NAMES.contains(&"cornell_box"));
+    let expected: Vec<&str> = std::iter::once("cornell_box")
+        .chain(scenes::penumbra::VARIANTS.iter().map(|(name, _)| *name))
+        .collect();
+    assert_eq!(scenes::NAMES, expected);
     for name in scenes::NAMES {
         let scene = scenes::by_name(name).expect("listed scenes exist");
         assert_eq!(&scene.name, name);
@@ -279,7 +282,8 @@ fn built_in_scenes_are_listed_by_name() {
     assert!(scenes::by_name("no_such_scene").is_none());
 }
 
-/// The scene files committed under `scenes/` are what the builders make, within
+/// The scene files committed under `scenes/`, one per built-in scene (the
+/// Cornell box and every penumbra variant), are what the builders make, within
 /// single precision. With `RADIOSITY_WRITE_SCENES=1` they are rewritten first.
 #[test]
 fn scenes_on_disk_match_builders() {
@@ -296,7 +300,14 @@ fn scenes_on_disk_match_builders() {
             panic!("{e} (regenerate with RADIOSITY_WRITE_SCENES=1 cargo test --test gltf_export)")
         });
         assert_eq!(on_disk.name, *name);
-        // Coordinates below 1 m in f32: half an ulp is under 6e-8.
-        assert_same_scene(&built, &on_disk, 6e-8);
+        // Positions are stored in f32: half an ulp of x is at most |x| * 2^-24
+        // (6e-8 per metre of the largest coordinate, and never less than for 1 m).
+        let largest = built
+            .surfaces
+            .iter()
+            .flat_map(|s| s.vertices.iter())
+            .map(|v| v.abs().max_element())
+            .fold(1.0, f64::max);
+        assert_same_scene(&built, &on_disk, largest * 2f64.powi(-24));
     }
 }

@@ -26,6 +26,8 @@ pub enum Command {
     /// Path-traced ground truth: the mean radiosity of every object, with
     /// standard errors (independent of the hemi-cube and the solver).
     Reference(ReferenceArgs),
+    /// Solve a scene and write the radiosity at given points as CSV.
+    Probe(Box<ProbeArgs>),
 }
 
 /// `radiosity reference`.
@@ -66,6 +68,37 @@ pub struct SolveArgs {
     /// Folder for NAME.png, NAME.exr and NAME.json.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
+    /// Solve settings, shared with `probe`.
+    #[command(flatten)]
+    pub settings: SolveSettingsArgs,
+    /// A view: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEGREES (vertical
+    /// field of view). Repeat for several views of one solution. Default: the
+    /// scene's first camera, else a view that frames the scene.
+    #[arg(long, allow_hyphen_values = true)]
+    pub camera: Vec<String>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 512)]
+    pub height: u32,
+    /// Exposure of the PNG in stops [default: automatic].
+    #[arg(long, allow_hyphen_values = true)]
+    pub exposure: Option<f64>,
+    /// Tone map of the PNG: clamp, reinhard or aces.
+    #[arg(long, default_value = "aces")]
+    pub tonemap: String,
+    /// Also draw the element mesh over the image into this PNG.
+    #[arg(long = "mesh-out")]
+    pub mesh_out: Option<PathBuf>,
+    /// Print no progress bars.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The settings of a solve, shared by `solve` and `probe`.
+#[derive(Args, Debug, Clone)]
+pub struct SolveSettingsArgs {
     /// Hemi-cube resolution: pixels across the top face (even).
     #[arg(long = "hemicube-res", default_value_t = 128)]
     pub hemicube_res: usize,
@@ -116,26 +149,34 @@ pub struct SolveArgs {
     /// Worker threads [default: all cores].
     #[arg(long)]
     pub threads: Option<usize>,
-    /// A view: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEGREES (vertical
-    /// field of view). Repeat for several views of one solution. Default: the
-    /// scene's first camera, else a view that frames the scene.
-    #[arg(long, allow_hyphen_values = true)]
-    pub camera: Vec<String>,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 512)]
-    pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 512)]
-    pub height: u32,
-    /// Exposure of the PNG in stops [default: automatic].
-    #[arg(long, allow_hyphen_values = true)]
-    pub exposure: Option<f64>,
-    /// Tone map of the PNG: clamp, reinhard or aces.
-    #[arg(long, default_value = "aces")]
-    pub tonemap: String,
-    /// Also draw the element mesh over the image into this PNG.
-    #[arg(long = "mesh-out")]
-    pub mesh_out: Option<PathBuf>,
+}
+
+/// `radiosity probe`.
+#[derive(Args, Debug, Clone)]
+pub struct ProbeArgs {
+    /// A glTF 2.0 file (.gltf or .glb), or the name of a built-in scene.
+    pub scene: String,
+    /// CSV of probe points, one per line: x,y,z,nx,ny,nz (the point and the
+    /// front normal of the surface it lies on). A header row is optional.
+    #[arg(long)]
+    pub points: PathBuf,
+    /// Output CSV [default: standard output].
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Also write the exact direct radiosity (the built-in penumbra scenes
+    /// only; empty for points off their floor).
+    #[arg(long)]
+    pub exact: bool,
+    /// Largest distance of a point from a surface's plane, as a fraction of
+    /// the scene's bounding-box diagonal.
+    #[arg(long = "plane-tolerance", default_value_t = 1e-4)]
+    pub plane_tolerance: f64,
+    /// Largest angle between a point's normal and the surface's, in degrees.
+    #[arg(long = "normal-tolerance", default_value_t = 5.0)]
+    pub normal_tolerance: f64,
+    /// Solve settings, as for `solve`.
+    #[command(flatten)]
+    pub settings: SolveSettingsArgs,
     /// Print no progress bars.
     #[arg(long)]
     pub quiet: bool,

@@ -2,6 +2,7 @@
 
 mod args;
 mod camera_arg;
+mod probe_cmd;
 mod progress_bar;
 mod reference_cmd;
 mod solve_cmd;
@@ -25,5 +26,6 @@ pub fn run() -> Result<()> {
         Command::Solve(a) => solve_cmd::run(&a),
         Command::ExportScene(a) => solve_cmd::export_scene(&a),
         Command::Reference(a) => reference_cmd::run(&a),
+        Command::Probe(a) => probe_cmd::run(&a),
     }
 }

@@ -1,6 +1,6 @@
 //! `radiosity solve`: load, solve, render every view, write images and stats.
 
-use super::args::{ExportArgs, SolveArgs};
+use super::args::{ExportArgs, SolveArgs, SolveSettingsArgs};
 use super::camera_arg::parse_camera;
 use super::progress_bar::Bars;
 use anyhow::{bail, Context, Result};
@@ -30,7 +30,8 @@ pub fn load(scene: &str) -> Result<Scene> {
     Ok(gltf_io::load_scene(path, &ImportLimits::default())?)
 }
 
-fn settings(a: &SolveArgs) -> Settings {
+/// The library settings the solve flags ask for.
+pub fn settings(a: &SolveSettingsArgs) -> Settings {
     Settings {
         hemicube_resolution: a.hemicube_res,
         patch_size: a.patch_size,
@@ -105,16 +106,21 @@ struct SolverReport {
 /// Runs `radiosity solve`.
 pub fn run(a: &SolveArgs) -> Result<()> {
     let started = Instant::now();
+    let pool = thread_pool(a.settings.threads)?;
+    let threads = pool.current_num_threads();
+    pool.install(|| run_in_pool(a, started, threads))
+}
+
+/// A pool of `threads` workers (all cores when `None`).
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = a.threads {
+    if let Some(n) = threads {
         if n == 0 {
             bail!("--threads must be at least 1");
         }
         pool = pool.num_threads(n);
     }
-    let pool = pool.build().context("starting the worker threads")?;
-    let threads = pool.current_num_threads();
-    pool.install(|| run_in_pool(a, started, threads))
+    pool.build().context("starting the worker threads")
 }
 
 fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
@@ -133,7 +139,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
     }
 
     let bars = Bars::new(a.quiet);
-    let solution = radiosity::solve(&scene, &settings(a), &|p| bars.update(p))
+    let solution = radiosity::solve(&scene, &settings(&a.settings), &|p| bars.update(p))
         .with_context(|| format!("solving '{}'", scene.name))?;
     bars.finish();
 
@@ -222,7 +228,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         final_max_difference: s.final_max_difference,
         patch_size: s.patch_size,
         threads,
-        seed: a.seed,
+        seed: a.settings.seed,
         import: &scene.import_stats,
         warnings: &scene.warnings,
         outputs,

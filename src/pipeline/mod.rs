@@ -1,12 +1,14 @@
 //! The whole solve: mesh, form factors, coarse solve, gather, refine, repeat.
 
 mod coplanar;
+mod probe;
 mod progress;
 mod settings;
 mod solution;
 mod stats;
 
 pub use coplanar::COPLANAR_GAP;
+pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
 pub use progress::{Progress, Stage};
 pub use settings::Settings;
 pub use solution::{ObjectRadiosity, Solution};
