@@ -26,8 +26,21 @@ pub enum Command {
     /// Path-traced ground truth: the mean radiosity of every object, with
     /// standard errors (independent of the hemi-cube and the solver).
     Reference(ReferenceArgs),
+    /// Compare the per-surface radiosities of a solve's stats JSON with a
+    /// reference JSON (from `radiosity reference`): relative error per surface
+    /// and band, their mean and maximum.
+    Compare(CompareArgs),
     /// Solve a scene and write the radiosity at given points as CSV.
     Probe(Box<ProbeArgs>),
+}
+
+/// `radiosity compare`.
+#[derive(Args, Debug)]
+pub struct CompareArgs {
+    /// Stats JSON written by `radiosity solve`.
+    pub solution: PathBuf,
+    /// Reference JSON written by `radiosity reference`.
+    pub reference: PathBuf,
 }
 
 /// `radiosity reference`.

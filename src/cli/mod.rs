@@ -2,6 +2,7 @@
 
 mod args;
 mod camera_arg;
+mod compare_cmd;
 mod probe_cmd;
 mod progress_bar;
 mod reference_cmd;
@@ -26,6 +27,7 @@ pub fn run() -> Result<()> {
         Command::Solve(a) => solve_cmd::run(&a),
         Command::ExportScene(a) => solve_cmd::export_scene(&a),
         Command::Reference(a) => reference_cmd::run(&a),
+        Command::Compare(a) => compare_cmd::run(&a),
         Command::Probe(a) => probe_cmd::run(&a),
     }
 }

@@ -11,6 +11,9 @@ use std::time::Instant;
 #[derive(Serialize)]
 struct ObjectReference {
     name: String,
+    /// Whether any surface of the object emits (its radiosity is then mostly
+    /// its own emission, which `compare` does not count).
+    emits: bool,
     radiosity: Rgb,
     std_error: Rgb,
     paths: u64,
@@ -57,8 +60,13 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
             .objects
             .iter()
             .zip(means)
-            .map(|(o, m)| ObjectReference {
+            .enumerate()
+            .map(|(i, (o, m))| ObjectReference {
                 name: o.name.clone(),
+                emits: scene
+                    .surfaces
+                    .iter()
+                    .any(|s| s.object as usize == i && scene.material_of(s).is_emitter()),
                 radiosity: m.radiosity,
                 std_error: m.std_error,
                 paths: m.paths,
