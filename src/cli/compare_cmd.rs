@@ -23,8 +23,12 @@ struct Surfaces {
 fn read(path: &Path) -> Result<Vec<Surface>> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let s: Surfaces = serde_json::from_str(&text)
-        .with_context(|| format!("{}: no 'surfaces' list of name and radiosity", path.display()))?;
+    let s: Surfaces = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{}: no 'surfaces' list of name and radiosity",
+            path.display()
+        )
+    })?;
     Ok(s.surfaces)
 }
 
@@ -39,7 +43,11 @@ pub fn run(a: &CompareArgs) -> Result<()> {
     println!("surface          relative error (R, G, B) %         reference std. error %");
     for r in &reference {
         let Some(s) = solution.iter().find(|s| s.name == r.name) else {
-            bail!("surface '{}' of the reference is not in {}", r.name, a.solution.display());
+            bail!(
+                "surface '{}' of the reference is not in {}",
+                r.name,
+                a.solution.display()
+            );
         };
         let e: Vec<f64> = (0..3)
             .map(|k| (s.radiosity[k] - r.radiosity[k]) / r.radiosity[k])
@@ -54,7 +62,11 @@ pub fn run(a: &CompareArgs) -> Result<()> {
             100.0 * e[0],
             100.0 * e[1],
             100.0 * e[2],
-            if emitter { " (emitter, not counted)" } else { "" },
+            if emitter {
+                " (emitter, not counted)"
+            } else {
+                ""
+            },
             100.0 * se[0],
             100.0 * se[1],
             100.0 * se[2]
