@@ -115,6 +115,14 @@ pub struct SolveSettingsArgs {
     /// Hemi-cube resolution: pixels across the top face (even).
     #[arg(long = "hemicube-res", default_value_t = 128)]
     pub hemicube_res: usize,
+    /// How hemi-cube pixels become form factors: hybrid (the hemi-cube decides
+    /// visibility, Lambert's exact formula the magnitude) or hemicube (classic
+    /// pixel sums).
+    #[arg(long = "form-factors", default_value = "hybrid")]
+    pub form_factors: radiosity::formfactor::FormFactorMethod,
+    /// Shadow rays for emitters a hemi-cube saw only in part (hybrid only).
+    #[arg(long = "emitter-rays", default_value = "on", value_parser = ["on", "off"])]
+    pub emitter_rays: String,
     /// Largest patch edge in metres [default: the scene's diagonal / 10].
     #[arg(long = "patch-size")]
     pub patch_size: Option<f64>,

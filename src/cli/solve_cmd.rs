@@ -34,6 +34,8 @@ pub fn load(scene: &str) -> Result<Scene> {
 pub fn settings(a: &SolveSettingsArgs) -> Settings {
     Settings {
         hemicube_resolution: a.hemicube_res,
+        form_factors: a.form_factors,
+        emitter_rays: a.emitter_rays == "on",
         patch_size: a.patch_size,
         seed: a.seed,
         solver: SolverSettings {
