@@ -23,7 +23,7 @@ use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, mark_sources};
 use crate::scene::Scene;
-use crate::solve::{gather, gauss_seidel, PatchSystem};
+use crate::solve::{gather, gauss_seidel, GatherTotals, PatchSystem, SolveReport};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -65,8 +65,7 @@ pub fn solve(
     let mut hemicube = HemicubeStats::default();
 
     let leaves = mesh.leaves();
-    let t = Instant::now();
-    compute_and_store_rows(
+    stats.seconds.form_factors += compute_and_store_rows(
         &mut mesh,
         &sources,
         &leaves,
@@ -75,9 +74,7 @@ pub fn solve(
         0,
         progress,
     );
-    stats.seconds.form_factors += t.elapsed().as_secs_f64();
 
-    let t = Instant::now();
     let mut system = PatchSystem::from_mesh(&mesh);
     let mut b: Vec<Rgb> = system.emission.clone();
     progress(Progress {
@@ -85,10 +82,9 @@ pub fn solve(
         done: 0,
         total: 1,
     });
-    let mut report = gauss_seidel(&system, &mut b, &settings.solver)?;
+    let (mut report, mut totals) =
+        solve_and_gather(&mut mesh, &system, &mut b, settings, &mut stats)?;
     let mut iterations = report.iterations;
-    let mut totals = gather(&mut mesh, &b);
-    stats.seconds.solve += t.elapsed().as_secs_f64();
     progress(Progress {
         stage: Stage::Solve,
         done: 1,
@@ -118,8 +114,7 @@ pub fn solve(
             // Rows refer to patches, so every row is recomputed.
             sources = Sources::from_mesh(&mesh);
             let leaves = mesh.leaves();
-            let t = Instant::now();
-            compute_and_store_rows(
+            stats.seconds.form_factors += compute_and_store_rows(
                 &mut mesh,
                 &sources,
                 &leaves,
@@ -128,14 +123,10 @@ pub fn solve(
                 0,
                 progress,
             );
-            stats.seconds.form_factors += t.elapsed().as_secs_f64();
-            let t = Instant::now();
             system = PatchSystem::from_mesh(&mesh);
             b = mesh.patches.iter().map(|p| p.radiosity).collect();
-            report = gauss_seidel(&system, &mut b, &settings.solver)?;
+            (report, totals) = solve_and_gather(&mut mesh, &system, &mut b, settings, &mut stats)?;
             iterations += report.iterations;
-            totals = gather(&mut mesh, &b);
-            stats.seconds.solve += t.elapsed().as_secs_f64();
             stats.source_passes.push(SourcePassStats {
                 patches_split: marks.len(),
                 patches: mesh.patches.len(),
@@ -166,8 +157,7 @@ pub fn solve(
             touched.sort_unstable();
             touched.dedup();
 
-            let t = Instant::now();
-            compute_and_store_rows(
+            stats.seconds.form_factors += compute_and_store_rows(
                 &mut mesh,
                 &sources,
                 &fresh,
@@ -176,15 +166,10 @@ pub fn solve(
                 pass,
                 progress,
             );
-            let ff_seconds = t.elapsed().as_secs_f64();
-            stats.seconds.form_factors += ff_seconds;
 
-            let t = Instant::now();
             system.refresh(&mesh, &touched);
-            report = gauss_seidel(&system, &mut b, &settings.solver)?;
+            (report, totals) = solve_and_gather(&mut mesh, &system, &mut b, settings, &mut stats)?;
             iterations += report.iterations;
-            totals = gather(&mut mesh, &b);
-            stats.seconds.solve += t.elapsed().as_secs_f64();
 
             stats.passes.push(PassStats {
                 pass,
@@ -239,6 +224,23 @@ fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()
     Ok(())
 }
 
+/// Gauss-Seidel on the patch system from the current `b`, then the gather;
+/// adds the seconds to the stats.
+fn solve_and_gather(
+    mesh: &mut Mesh,
+    system: &PatchSystem,
+    b: &mut [Rgb],
+    settings: &Settings,
+    stats: &mut SolveStats,
+) -> Result<(SolveReport, GatherTotals)> {
+    let t = Instant::now();
+    let report = gauss_seidel(system, b, &settings.solver)?;
+    let totals = gather(mesh, b);
+    stats.seconds.solve += t.elapsed().as_secs_f64();
+    Ok((report, totals))
+}
+
+/// Computes and stores the rows of `keys`; returns the seconds it took.
 fn compute_and_store_rows(
     mesh: &mut Mesh,
     sources: &Sources,
@@ -247,7 +249,8 @@ fn compute_and_store_rows(
     hemicube: &mut HemicubeStats,
     pass: usize,
     progress: &(dyn Fn(Progress) + Sync),
-) {
+) -> f64 {
+    let started = Instant::now();
     let total = keys.len();
     let report = |done| {
         progress(Progress {
@@ -264,4 +267,5 @@ fn compute_and_store_rows(
     hemicube.hemicubes += s.hemicubes;
     hemicube.polygons_rasterized += s.polygons_rasterized;
     hemicube.pixels_tested += s.pixels_tested;
+    started.elapsed().as_secs_f64()
 }
