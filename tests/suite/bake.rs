@@ -301,12 +301,10 @@ fn baked_files_render_like_the_solution() {
     }
 }
 
-/// A hand-written file as other tools write them: `COLOR_0` as normalized
-/// unsigned bytes with alpha, no scale, no material (the glTF default: white,
-/// lit, not emitting), placed by a mirroring node. Colours read as given, and
-/// the mirror flips the winding back to counter-clockwise.
-#[test]
-fn load_baked_reads_byte_colours_and_mirrored_nodes() {
+/// A one-triangle glTF file as other tools write them: `COLOR_0` as normalized
+/// unsigned bytes with alpha (`colour_count` of them), the primitive's
+/// `extras` as given, no material, placed by a node scaled (-1, 1, 1).
+fn triangle_file(name: &str, colour_count: usize, extras: &str) -> PathBuf {
     let mut bin: Vec<u8> = Vec::new();
     for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
         for c in p {
@@ -317,16 +315,25 @@ fn load_baked_reads_byte_colours_and_mirrored_nodes() {
     let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
         "nodes":[{{"name":"mirrored","mesh":0,"scale":[-1,1,1]}}],
-        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"COLOR_0":1}}}}]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"COLOR_0":1}}{extras}}}]}}],
         "accessors":[
           {{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
-          {{"bufferView":0,"byteOffset":36,"componentType":5121,"normalized":true,"count":3,"type":"VEC4"}}],
+          {{"bufferView":0,"byteOffset":36,"componentType":5121,"normalized":true,"count":{colour_count},"type":"VEC4"}}],
         "bufferViews":[{{"buffer":0,"byteLength":48}}],
         "buffers":[{{"byteLength":48,"uri":"data:application/octet-stream;base64,{}"}}]}}"#,
         base64_encode(&bin)
     );
-    let path = work_dir("byte_colours").join("triangle.gltf");
+    let path = work_dir("triangle_files").join(format!("{name}.gltf"));
     std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// Byte colours without a scale or a material (the glTF default material:
+/// white, lit, not emitting) read as given, and the mirroring node's winding
+/// is turned back to counter-clockwise.
+#[test]
+fn load_baked_reads_byte_colours_and_mirrored_nodes() {
+    let path = triangle_file("plain", 3, "");
     let baked = load_baked(&path, &ImportLimits::default()).unwrap();
     assert_eq!(baked.objects, vec!["mirrored".to_string()]);
     assert_eq!(baked.mesh.triangles.len(), 1);
@@ -352,6 +359,38 @@ fn load_baked_reads_byte_colours_and_mirrored_nodes() {
             "{got:?} {want:?}"
         );
     }
+    // A scale multiplies.
+    let scaled = triangle_file("scaled", 3, r#","extras":{"radiosityScale":4}"#);
+    let baked = load_baked(&scaled, &ImportLimits::default()).unwrap();
+    let top = baked
+        .mesh
+        .values
+        .iter()
+        .map(|v| v.max_band() * PI)
+        .fold(0.0, f64::max);
+    assert!((top - 4.0).abs() < 1e-12, "{top}");
+}
+
+/// Malformed baked files are errors that name the fault.
+#[test]
+fn malformed_baked_files_are_named() {
+    let limits = ImportLimits::default();
+    let short = triangle_file("short_colours", 2, "");
+    let e = load_baked(&short, &limits).unwrap_err();
+    assert!(e.to_string().contains("COLOR_0 has 2 values for 3"), "{e}");
+    for (name, extras) in [
+        ("negative_scale", r#","extras":{"radiosityScale":-1}"#),
+        ("text_scale", r#","extras":{"radiosityScale":"big"}"#),
+    ] {
+        let e = load_baked(&triangle_file(name, 3, extras), &limits).unwrap_err();
+        assert!(e.to_string().contains("radiosityScale"), "{name}: {e}");
+    }
+    let tight = ImportLimits {
+        max_triangles: 0,
+        ..ImportLimits::default()
+    };
+    let e = load_baked(&triangle_file("limited", 3, ""), &tight).unwrap_err();
+    assert!(matches!(e, Error::Limit(_)), "{e}");
 }
 
 /// Standard base64 (the suite has no encoder of its own).
