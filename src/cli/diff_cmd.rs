@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use radiosity::render::{self, DiffMetrics};
 use serde::Serialize;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// `radiosity diff`.
@@ -68,6 +69,8 @@ pub fn run(a: &DiffArgs) -> Result<()> {
                 .with_context(|| format!("writing {}", output.display()))?;
         }
     }
+    // Written, not printed: a closed pipe (`| head`) is an error, not a panic.
+    let mut stdout = std::io::stdout().lock();
     if a.json {
         let report = Report {
             a: a.a.display().to_string(),
@@ -77,13 +80,13 @@ pub fn run(a: &DiffArgs) -> Result<()> {
             height: image_a.height,
             metrics: &metrics,
         };
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        writeln!(stdout, "{}", serde_json::to_string_pretty(&report)?)?;
     } else {
-        println!("MAE           {:.6e}", metrics.mae);
-        println!("RMSE          {:.6e}", metrics.rmse);
-        println!("relative RMSE {:.6e}", metrics.relative_rmse);
-        println!("max |A - B|   {:.6e}", metrics.max_abs);
-        println!("wrote {}", output.display());
+        writeln!(stdout, "MAE           {:.6e}", metrics.mae)?;
+        writeln!(stdout, "RMSE          {:.6e}", metrics.rmse)?;
+        writeln!(stdout, "relative RMSE {:.6e}", metrics.relative_rmse)?;
+        writeln!(stdout, "max |A - B|   {:.6e}", metrics.max_abs)?;
+        writeln!(stdout, "wrote {}", output.display())?;
     }
     Ok(())
 }
