@@ -1,5 +1,9 @@
 //! The command-line interface.
 
+use super::bake_cmd::BakeArgs;
+use super::diff_cmd::DiffArgs;
+use super::render_cmd::RenderArgs;
+use super::view_args::ViewArgs;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -23,6 +27,13 @@ pub enum Command {
     Solve(Box<SolveArgs>),
     /// Write a built-in scene as a glTF file.
     ExportScene(ExportArgs),
+    /// Solve a scene and write the refined mesh with per-vertex radiosity as
+    /// glTF (COLOR_0), to view anywhere or render again with `render`.
+    Bake(Box<BakeArgs>),
+    /// Render more views of a baked solution (from `bake`) without solving.
+    Render(Box<RenderArgs>),
+    /// Compare two EXR or HDR images: difference image, MAE, RMSE, relative RMSE.
+    Diff(DiffArgs),
     /// Path-traced ground truth: the mean radiosity of every object, with
     /// standard errors (independent of the hemi-cube and the solver).
     Reference(ReferenceArgs),
@@ -78,29 +89,16 @@ pub struct SolveArgs {
     /// A glTF 2.0 file (.gltf or .glb), or the name of a built-in scene
     /// (cornell_box).
     pub scene: String,
-    /// Folder for NAME.png, NAME.exr and NAME.json.
+    /// Folder for NAME.png, NAME.exr and NAME.json (and NAME.hdr, NAME_false.png
+    /// when asked for).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Solve settings, shared with `probe`.
     #[command(flatten)]
     pub settings: SolveSettingsArgs,
-    /// A view: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z,FOV_DEGREES (vertical
-    /// field of view). Repeat for several views of one solution. Default: the
-    /// scene's first camera, else a view that frames the scene.
-    #[arg(long, allow_hyphen_values = true)]
-    pub camera: Vec<String>,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 512)]
-    pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 512)]
-    pub height: u32,
-    /// Exposure of the PNG in stops [default: automatic].
-    #[arg(long, allow_hyphen_values = true)]
-    pub exposure: Option<f64>,
-    /// Tone map of the PNG: clamp, reinhard or aces.
-    #[arg(long, default_value = "aces")]
-    pub tonemap: String,
+    /// Cameras and images.
+    #[command(flatten)]
+    pub view: ViewArgs,
     /// Also draw the element mesh over the image into this PNG.
     #[arg(long = "mesh-out")]
     pub mesh_out: Option<PathBuf>,

@@ -1,12 +1,17 @@
 //! Command-line parsing and the subcommands.
 
 mod args;
+mod bake_cmd;
 mod camera_arg;
 mod compare_cmd;
+mod diff_cmd;
 mod probe_cmd;
 mod progress_bar;
 mod reference_cmd;
+mod render_cmd;
 mod solve_cmd;
+mod view_args;
+mod views;
 
 use anyhow::Result;
 use clap::Parser;
@@ -26,6 +31,9 @@ pub fn run() -> Result<()> {
     match command {
         Command::Solve(a) => solve_cmd::run(&a),
         Command::ExportScene(a) => solve_cmd::export_scene(&a),
+        Command::Bake(a) => bake_cmd::run(&a),
+        Command::Render(a) => render_cmd::run(&a),
+        Command::Diff(a) => diff_cmd::run(&a),
         Command::Reference(a) => reference_cmd::run(&a),
         Command::Compare(a) => compare_cmd::run(&a),
         Command::Probe(a) => probe_cmd::run(&a),

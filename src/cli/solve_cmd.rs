@@ -1,14 +1,14 @@
 //! `radiosity solve`: load, solve, render every view, write images and stats.
 
 use super::args::{ExportArgs, SolveArgs, SolveSettingsArgs};
-use super::camera_arg::parse_camera;
 use super::progress_bar::Bars;
+use super::views::{choose_views, write_views, Overlay};
 use anyhow::{bail, Context, Result};
 use radiosity::gltf_io::{self, ImportLimits};
 use radiosity::pipeline::{ObjectRadiosity, SolveStats};
 use radiosity::refine::RefineSettings;
-use radiosity::render::{self, ShadedMesh, ToneMap};
-use radiosity::scene::{Camera, Scene};
+use radiosity::render::ShadedMesh;
+use radiosity::scene::Scene;
 use radiosity::solve::SolverSettings;
 use radiosity::{scenes, Settings};
 use serde::Serialize;
@@ -126,12 +126,7 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
 }
 
 fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
-    let tone: ToneMap = a.tonemap.parse().map_err(anyhow::Error::msg)?;
-    let cameras: Vec<Camera> = a
-        .camera
-        .iter()
-        .map(|c| parse_camera(c))
-        .collect::<Result<_>>()?;
+    let plan = a.view.plan()?;
 
     let t = Instant::now();
     let scene = load(&a.scene)?;
@@ -146,55 +141,19 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
     bars.finish();
 
     let t = Instant::now();
-    let views: Vec<Camera> = if !cameras.is_empty() {
-        cameras
-    } else if let Some(c) = scene.cameras.first() {
-        vec![c.clone()]
+    let (lo, hi) = scene.bounds();
+    let views = choose_views(&plan, &scene.cameras, lo, hi);
+    let mesh = radiance_mesh(&solution);
+    let segments = if a.mesh_out.is_some() {
+        solution.mesh.leaf_edges()
     } else {
-        let (lo, hi) = scene.bounds();
-        vec![Camera::framing(lo, hi)]
+        Vec::new()
     };
-    let shading = solution.shading_mesh();
-    let mesh = ShadedMesh {
-        positions: shading.positions.clone(),
-        values: shading
-            .radiosity
-            .iter()
-            .map(|b| *b / std::f64::consts::PI)
-            .collect(),
-        triangles: shading.triangles.clone(),
-    };
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("creating the output folder {}", a.out.display()))?;
-    let mut outputs = Vec::new();
-    let mut exposure = a.exposure;
-    for (i, camera) in views.iter().enumerate() {
-        let stem = if i == 0 {
-            scene.name.clone()
-        } else {
-            format!("{}_view{}", scene.name, i + 1)
-        };
-        let (image, depth) = render::render_with_depth(&mesh, camera, a.width, a.height, 2)?;
-        // One exposure for every view of a solution, so that they compare.
-        let stops = *exposure.get_or_insert_with(|| render::auto_exposure(&image, tone));
-        let exr = a.out.join(format!("{stem}.exr"));
-        let png = a.out.join(format!("{stem}.png"));
-        render::write_exr(&image, &exr)?;
-        render::write_png(&image, &png, stops, tone)?;
-        outputs.push(exr.display().to_string());
-        outputs.push(png.display().to_string());
-        if i == 0 {
-            if let Some(mesh_png) = &a.mesh_out {
-                let mut over = image.clone();
-                let segments = solution.mesh.leaf_edges();
-                // Mesh lines in cyan at display white, whatever the exposure.
-                let colour = radiosity::math::Rgb::new(0.0, 0.8, 1.0) * 2f64.powf(-stops) * 1.5;
-                render::draw_segments_depth_tested(&mut over, &depth, camera, &segments, colour)?;
-                render::write_png(&over, mesh_png, stops, tone)?;
-                outputs.push(mesh_png.display().to_string());
-            }
-        }
-    }
+    let overlay = a.mesh_out.as_deref().map(|png| Overlay {
+        png,
+        segments: &segments,
+    });
+    let mut outputs = write_views(&mesh, &views, &a.view, &plan, &a.out, &scene.name, overlay)?;
     let render_seconds = t.elapsed().as_secs_f64();
 
     let s: &SolveStats = &solution.stats;
@@ -249,6 +208,21 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The solution's display mesh with radiance (radiosity / pi) per vertex, as
+/// the renderer takes it.
+pub fn radiance_mesh(solution: &radiosity::Solution) -> ShadedMesh {
+    let shading = solution.shading_mesh();
+    ShadedMesh {
+        positions: shading.positions,
+        values: shading
+            .radiosity
+            .iter()
+            .map(|b| *b / std::f64::consts::PI)
+            .collect(),
+        triangles: shading.triangles,
+    }
 }
 
 fn write_json<T: Serialize>(path: &PathBuf, value: &T) -> Result<()> {

@@ -1,4 +1,4 @@
-//! Reading accessors (vertex positions and indices) with every offset, stride and
+//! Reading accessors (vertex positions, indices and colours) with every offset, stride and
 //! count checked against the bytes the buffer really holds, so that out-of-range
 //! views or accessors become errors instead of panics. Sparse accessors are
 //! supported; an accessor without a buffer view reads as zeros, as glTF specifies.
@@ -63,6 +63,45 @@ pub(super) fn read_indices(
         ));
     }
     read_elements(doc, buffers, acc, &name, size, limits, |b| uint_at(b, size))
+}
+
+/// The colours of a `COLOR_n` accessor: `VEC3` or `VEC4` (alpha dropped) of
+/// `FLOAT`, or of normalized unsigned bytes or shorts, as linear RGB.
+pub(super) fn read_colours(
+    doc: &Document,
+    buffers: &[Vec<u8>],
+    index: usize,
+    limits: &ImportLimits,
+) -> Result<Vec<[f64; 3]>, Message> {
+    let acc = accessor(doc, index)?;
+    let name = describe("accessor", index, acc.name.as_deref());
+    let component = component_type(acc);
+    let components = match type_of(acc) {
+        Some(Type::Vec3) => 3,
+        Some(Type::Vec4) => 4,
+        _ => 0,
+    };
+    let (size, unit) = match component {
+        Some(ComponentType::F32) if !acc.normalized => (4, None),
+        Some(ComponentType::U8) if acc.normalized => (1, Some(255.0)),
+        Some(ComponentType::U16) if acc.normalized => (2, Some(65535.0)),
+        _ => (0, None),
+    };
+    if components == 0 || size == 0 {
+        return Err(format!(
+            "{name} holds colours as {:?} of {:?}{}; colours must be VEC3 or VEC4 of FLOAT, \
+             or of normalized unsigned bytes or shorts",
+            type_of(acc),
+            component,
+            if acc.normalized { " (normalized)" } else { "" }
+        ));
+    }
+    read_elements(doc, buffers, acc, &name, components * size, limits, |b| {
+        [0, 1, 2].map(|k| match unit {
+            None => f64::from(f32_at(b, 4 * k)),
+            Some(max) => f64::from(uint_at(&b[k * size..], size)) / max,
+        })
+    })
 }
 
 fn accessor(doc: &Document, index: usize) -> Result<&Accessor, Message> {

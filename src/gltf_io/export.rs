@@ -17,7 +17,7 @@ use gltf_json::{Asset, Buffer, Index, Node, Root, Value};
 use std::borrow::Cow;
 use std::path::Path;
 
-const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
+pub(super) const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
 
 /// Writes `scene` as glTF 2.0: a `.glb` file if the extension is `glb`, else a
 /// `.gltf` file with its one buffer embedded as a base64 data URI.
@@ -50,49 +50,18 @@ const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
 /// (a surface referring to a missing object or material, a coordinate beyond the
 /// `f32` range); [`Error::Io`] if the file cannot be written.
 pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
-    let output_error = |message: String| Error::Output {
-        path: path.to_path_buf(),
-        message,
-    };
-    let binary = match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-    {
-        Some(e) if e == "glb" => true,
-        Some(e) if e == "gltf" => false,
-        _ => {
-            return Err(output_error(
-                "the file name must end in .gltf or .glb".to_string(),
-            ))
-        }
-    };
-    check_exportable(scene).map_err(output_error)?;
-    let mut root = Root {
-        asset: Asset {
-            copyright: None,
-            extensions: None,
-            extras: Default::default(),
-            generator: Some(format!("radiosity {}", env!("CARGO_PKG_VERSION"))),
-            min_version: None,
-            version: "2.0".to_string(),
-        },
-        ..Root::default()
-    };
+    let binary = is_binary(path)?;
+    check_exportable(scene).map_err(|m| output_error(path, m))?;
+    let mut root = new_root();
     let mut precise: Vec<(String, Value)> = Vec::new();
     for (i, m) in scene.materials.iter().enumerate() {
         let material = export_material(i, m, &mut precise);
-        if material.extensions.is_some()
-            && !root.extensions_used.iter().any(|e| e == EMISSIVE_STRENGTH)
-        {
-            root.extensions_used.push(EMISSIVE_STRENGTH.to_string());
+        if material.extensions.is_some() {
+            use_extension(&mut root, EMISSIVE_STRENGTH);
         }
         root.materials.push(material);
     }
-    let mut by_object: Vec<Vec<usize>> = vec![Vec::new(); scene.objects.len()];
-    for (s, surface) in scene.surfaces.iter().enumerate() {
-        by_object[surface.object as usize].push(s);
-    }
+    let by_object = surfaces_by_object(scene);
     let mut geometry = GeometryWriter { bin: Vec::new() };
     let mut scene_nodes = Vec::new();
     for (o, object) in scene.objects.iter().enumerate() {
@@ -105,17 +74,108 @@ pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
             ..Node::default()
         }));
     }
-    let znear = (scene.diameter() * 1e-4).max(1e-6);
-    for camera in &scene.cameras {
-        scene_nodes.push(export_camera(&mut root, camera, znear, &mut precise));
+    scene_nodes.extend(export_cameras(&mut root, scene, &mut precise));
+    finish(
+        root,
+        scene,
+        scene_nodes,
+        geometry.bin,
+        &precise,
+        path,
+        binary,
+    )?;
+    Ok(())
+}
+
+/// An [`Error::Output`] for the file being written.
+pub(super) fn output_error(path: &Path, message: String) -> Error {
+    Error::Output {
+        path: path.to_path_buf(),
+        message,
     }
+}
+
+/// Whether `path` asks for a `.glb` file (else a `.gltf`); an error for any
+/// other extension.
+pub(super) fn is_binary(path: &Path) -> Result<bool> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+    {
+        Some(e) if e == "glb" => Ok(true),
+        Some(e) if e == "gltf" => Ok(false),
+        _ => Err(output_error(
+            path,
+            "the file name must end in .gltf or .glb".to_string(),
+        )),
+    }
+}
+
+/// An empty glTF 2.0 document naming this program as its generator.
+pub(super) fn new_root() -> Root {
+    Root {
+        asset: Asset {
+            copyright: None,
+            extensions: None,
+            extras: Default::default(),
+            generator: Some(format!("radiosity {}", env!("CARGO_PKG_VERSION"))),
+            min_version: None,
+            version: "2.0".to_string(),
+        },
+        ..Root::default()
+    }
+}
+
+/// Lists `extension` in `extensionsUsed`, once.
+pub(super) fn use_extension(root: &mut Root, extension: &str) {
+    if !root.extensions_used.iter().any(|e| e == extension) {
+        root.extensions_used.push(extension.to_string());
+    }
+}
+
+/// The indices of each object's surfaces, object by object.
+pub(super) fn surfaces_by_object(scene: &Scene) -> Vec<Vec<usize>> {
+    let mut by_object: Vec<Vec<usize>> = vec![Vec::new(); scene.objects.len()];
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        by_object[surface.object as usize].push(s);
+    }
+    by_object
+}
+
+/// A camera node for each of the scene's cameras.
+pub(super) fn export_cameras(
+    root: &mut Root,
+    scene: &Scene,
+    precise: &mut Vec<(String, Value)>,
+) -> Vec<Index<Node>> {
+    let znear = (scene.diameter() * 1e-4).max(1e-6);
+    scene
+        .cameras
+        .iter()
+        .map(|camera| export_camera(root, camera, znear, precise))
+        .collect()
+}
+
+/// Adds the scene (named after `scene`, holding `nodes`) and the buffer `bin`,
+/// writes the numbers of `precise` at full precision over the JSON, and writes
+/// the file as `.glb` or `.gltf` (buffer embedded as a base64 data URI).
+/// Returns the number of bytes written.
+pub(super) fn finish(
+    mut root: Root,
+    scene: &Scene,
+    nodes: Vec<Index<Node>>,
+    bin: Vec<u8>,
+    precise: &[(String, Value)],
+    path: &Path,
+    binary: bool,
+) -> Result<usize> {
     root.scene = Some(root.push(gltf_json::Scene {
         extensions: None,
         extras: Default::default(),
         name: Some(scene.name.clone()),
-        nodes: scene_nodes,
+        nodes,
     }));
-    let bin = geometry.bin;
     if !bin.is_empty() {
         root.push(Buffer {
             byte_length: USize64(bin.len() as u64),
@@ -130,12 +190,13 @@ pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
             }),
         });
     }
-    let mut json = root.to_value().map_err(|e| output_error(e.to_string()))?;
+    let fail = |e: &dyn std::fmt::Display| output_error(path, e.to_string());
+    let mut json = root.to_value().map_err(|e| fail(&e))?;
     for (pointer, value) in precise {
-        set(&mut json, &pointer, value);
+        set(&mut json, pointer, value.clone());
     }
     let bytes = if binary {
-        let text = serde_json::to_vec(&json).map_err(|e| output_error(e.to_string()))?;
+        let text = serde_json::to_vec(&json).map_err(|e| fail(&e))?;
         let glb = gltf::Glb {
             header: gltf::binary::Header {
                 magic: *b"glTF",
@@ -145,17 +206,18 @@ pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
             json: Cow::Owned(text),
             bin: (!bin.is_empty()).then_some(Cow::Owned(bin)),
         };
-        glb.to_vec().map_err(|e| output_error(e.to_string()))?
+        glb.to_vec().map_err(|e| fail(&e))?
     } else {
-        let mut text = serde_json::to_vec_pretty(&json).map_err(|e| output_error(e.to_string()))?;
+        let mut text = serde_json::to_vec_pretty(&json).map_err(|e| fail(&e))?;
         text.push(b'\n');
         text
     };
-    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
+    std::fs::write(path, &bytes).map_err(|e| Error::io(path, e))?;
+    Ok(bytes.len())
 }
 
 /// Refuses what glTF cannot hold, before anything is built.
-fn check_exportable(scene: &Scene) -> std::result::Result<(), String> {
+pub(super) fn check_exportable(scene: &Scene) -> std::result::Result<(), String> {
     for (k, s) in scene.surfaces.iter().enumerate() {
         if s.object as usize >= scene.objects.len() {
             return Err(format!(
@@ -218,7 +280,9 @@ pub(super) fn emissive_split(radiance: Rgb) -> (Rgb, f64) {
     (radiance / strength, strength)
 }
 
-fn export_material(
+/// Material `i` as glTF: reflectance as `baseColorFactor`, emitted radiance as
+/// `emissiveFactor` times `KHR_materials_emissive_strength` (see [`write_scene`]).
+pub(super) fn export_material(
     i: usize,
     m: &Material,
     precise: &mut Vec<(String, Value)>,
@@ -265,6 +329,7 @@ fn export_material(
     }
 }
 
+/// A node carrying a perspective camera placed as `camera`.
 fn export_camera(
     root: &mut Root,
     camera: &Camera,

@@ -1,5 +1,6 @@
 //! Geometry for export: one mesh per object, one primitive per material used by the
-//! object, positions as `f32` with their bounds, `u32` triangle indices.
+//! object, positions as `f32` with their bounds, `u32` triangle indices; optional
+//! normals and vertex colours (for baked solutions).
 
 use crate::scene::{Scene, Surface};
 use gltf_json::accessor::{ComponentType, GenericComponentType, Type};
@@ -8,6 +9,17 @@ use gltf_json::mesh::{Mode, Primitive, Semantic};
 use gltf_json::validation::{Checked, USize64};
 use gltf_json::{Accessor, Index, Mesh, Root};
 use std::collections::BTreeMap;
+
+/// Per-vertex data of one primitive: positions, and optionally unit normals and
+/// linear RGB colours (`COLOR_0`), all of the same length.
+pub(super) struct VertexStreams<'a> {
+    /// Vertex positions.
+    pub positions: &'a [[f32; 3]],
+    /// Unit normals (`NORMAL`), if any.
+    pub normals: Option<&'a [[f32; 3]]>,
+    /// Colours in `[0, 1]` (`COLOR_0`), if any.
+    pub colours: Option<&'a [[f32; 3]]>,
+}
 
 /// The binary buffer being filled, with the views and accessors that describe it.
 pub(super) struct GeometryWriter {
@@ -68,36 +80,40 @@ impl GeometryWriter {
                 indices.extend([first, first + 2, first + 3]);
             }
         }
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for p in &positions {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
+        self.triangle_primitive(
+            root,
+            &VertexStreams {
+                positions: &positions,
+                normals: None,
+                colours: None,
+            },
+            &indices,
+            material,
+        )
+    }
+
+    /// A triangle-list primitive from vertex streams and `u32` indices, using
+    /// material `material`. Positions get the `min`/`max` bounds glTF requires.
+    pub fn triangle_primitive(
+        &mut self,
+        root: &mut Root,
+        streams: &VertexStreams,
+        indices: &[u32],
+        material: u32,
+    ) -> Primitive {
+        let mut attributes = BTreeMap::new();
+        let positions = self.vec3_accessor(root, streams.positions, true);
+        attributes.insert(Checked::Valid(Semantic::Positions), positions);
+        if let Some(normals) = streams.normals {
+            let a = self.vec3_accessor(root, normals, false);
+            attributes.insert(Checked::Valid(Semantic::Normals), a);
         }
-        let position_bytes: Vec<u8> = positions
-            .iter()
-            .flatten()
-            .flat_map(|c| c.to_le_bytes())
-            .collect();
+        if let Some(colours) = streams.colours {
+            let a = self.vec3_accessor(root, colours, false);
+            attributes.insert(Checked::Valid(Semantic::Colors(0)), a);
+        }
         let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-        let position_view = self.view(root, &position_bytes, Target::ArrayBuffer);
         let index_view = self.view(root, &index_bytes, Target::ElementArrayBuffer);
-        let position_accessor = root.push(Accessor {
-            buffer_view: Some(position_view),
-            byte_offset: None,
-            count: USize64(positions.len() as u64),
-            component_type: Checked::Valid(GenericComponentType(ComponentType::F32)),
-            extensions: None,
-            extras: Default::default(),
-            type_: Checked::Valid(Type::Vec3),
-            min: Some(lo.iter().map(|&v| serde_json::Value::from(v)).collect()),
-            max: Some(hi.iter().map(|&v| serde_json::Value::from(v)).collect()),
-            name: None,
-            normalized: false,
-            sparse: None,
-        });
         let index_accessor = root.push(Accessor {
             buffer_view: Some(index_view),
             byte_offset: None,
@@ -113,7 +129,7 @@ impl GeometryWriter {
             sparse: None,
         });
         Primitive {
-            attributes: BTreeMap::from([(Checked::Valid(Semantic::Positions), position_accessor)]),
+            attributes,
             extensions: None,
             extras: Default::default(),
             indices: Some(index_accessor),
@@ -121,6 +137,45 @@ impl GeometryWriter {
             mode: Checked::Valid(Mode::Triangles),
             targets: None,
         }
+    }
+
+    /// A `VEC3` `FLOAT` vertex attribute in its own view, with its bounds when
+    /// `bounds` is set.
+    fn vec3_accessor(
+        &mut self,
+        root: &mut Root,
+        values: &[[f32; 3]],
+        bounds: bool,
+    ) -> Index<Accessor> {
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        for p in values {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let bytes: Vec<u8> = values
+            .iter()
+            .flatten()
+            .flat_map(|c| c.to_le_bytes())
+            .collect();
+        let view = self.view(root, &bytes, Target::ArrayBuffer);
+        let json = |v: [f32; 3]| Some(v.iter().map(|&c| serde_json::Value::from(c)).collect());
+        root.push(Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64(values.len() as u64),
+            component_type: Checked::Valid(GenericComponentType(ComponentType::F32)),
+            extensions: None,
+            extras: Default::default(),
+            type_: Checked::Valid(Type::Vec3),
+            min: if bounds { json(lo) } else { None },
+            max: if bounds { json(hi) } else { None },
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
     }
 
     /// Appends `bytes` (a multiple of four long) to the buffer as a new view.

@@ -10,6 +10,10 @@
 //!   [`ImportLimits`] before anything is allocated.
 //! - [`write_scene`] writes a scene back as glTF 2.0 so that loading the file again
 //!   gives the same surfaces (within single precision), materials, objects and cameras.
+//! - [`write_baked`] writes a solution: the refined display mesh with per-vertex
+//!   radiosity in `COLOR_0` ([`BakeColour`] says how), one node per object;
+//!   [`load_baked`] reads such a file back as a [`ShadedMesh`](crate::render::ShadedMesh)
+//!   to render from new cameras without solving again.
 //!
 //! Conventions (see the project's design notes): glTF units are metres; the emitted
 //! radiance is `emissiveFactor * KHR_materials_emissive_strength`, the emitted exitance
@@ -17,6 +21,9 @@
 //! base colour texture, when it can be decoded).
 
 mod accessors;
+mod bake;
+mod bake_colour;
+mod baked;
 mod buffers;
 mod cameras;
 mod container;
@@ -34,6 +41,9 @@ mod quad_merge;
 mod textures;
 mod uri;
 
+pub use bake::{write_baked, BakeSummary};
+pub use bake_colour::BakeColour;
+pub use baked::{load_baked, BakedScene};
 pub use export::write_scene;
 pub use import::load_scene;
 pub use limits::ImportLimits;

@@ -34,6 +34,9 @@ pub struct ShadingMesh {
     pub radiosity: Vec<Rgb>,
     /// Counter-clockwise triangles (seen from the front).
     pub triangles: Vec<[u32; 3]>,
+    /// The scene surface each triangle lies on (parallel to `triangles`), so
+    /// that exporters can group triangles by object and material.
+    pub triangle_surface: Vec<u32>,
 }
 
 /// One T-vertex constraint: the vertex `mid` lies halfway along the coarse edge
@@ -181,6 +184,7 @@ impl Mesh {
                     .map(|c| vertex(&mut out, (e.surface, c.0, c.1)))
                     .collect();
                 out.triangles.push([ids[0], ids[1], ids[2]]);
+                out.triangle_surface.push(e.surface);
                 continue;
             }
             let mut ring = Vec::new();
@@ -206,6 +210,7 @@ impl Mesh {
             for i in 0..ring.len() {
                 out.triangles
                     .push([ci, ring[i], ring[(i + 1) % ring.len()]]);
+                out.triangle_surface.push(e.surface);
             }
         }
         out

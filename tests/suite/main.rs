@@ -3,6 +3,7 @@
 
 mod adaptive;
 mod awkward_geometry;
+mod bake;
 mod common;
 mod determinism;
 mod enclosures;

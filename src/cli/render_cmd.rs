@@ -1,0 +1,61 @@
+//! `radiosity render`: more views of a baked solution, without solving again.
+
+use super::view_args::ViewArgs;
+use super::views::{choose_views, write_views};
+use anyhow::Result;
+use clap::Args;
+use glam::DVec3;
+use radiosity::gltf_io::{load_baked, ImportLimits};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// `radiosity render`.
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// A baked solution (.glb or .gltf written by `radiosity bake`).
+    pub baked: PathBuf,
+    /// Folder for NAME.png and NAME.exr (NAME is the baked file's stem).
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Cameras and images, as for `solve`.
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Print no summary.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Runs `radiosity render`.
+pub fn run(a: &RenderArgs) -> Result<()> {
+    let started = Instant::now();
+    let plan = a.view.plan()?;
+    let baked = load_baked(&a.baked, &ImportLimits::default())?;
+    for w in &baked.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (lo, hi) = baked.mesh.positions.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let views = choose_views(&plan, &baked.cameras, lo, hi);
+    let outputs = write_views(
+        &baked.mesh,
+        &views,
+        &a.view,
+        &plan,
+        &a.out,
+        &baked.name,
+        None,
+    )?;
+    if !a.quiet {
+        eprintln!(
+            "{}: {} triangles, {} view(s) in {:.3} s; wrote {}",
+            baked.name,
+            baked.mesh.triangles.len(),
+            views.len(),
+            started.elapsed().as_secs_f64(),
+            outputs.join(", ")
+        );
+    }
+    Ok(())
+}

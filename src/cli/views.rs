@@ -1,0 +1,134 @@
+//! Rendering the views of a solution and writing their images: NAME.exr (and
+//! NAME.hdr), NAME.png, NAME_false.png, NAME_view2.*, ... Shared by `solve` and
+//! `render`, so both write the same files the same way.
+
+use super::view_args::{FalseColourScale, ViewArgs, ViewPlan};
+use anyhow::{bail, Context, Result};
+use glam::DVec3;
+use radiosity::math::Rgb;
+use radiosity::render::{self, HdrImage, ShadedMesh};
+use radiosity::scene::Camera;
+use std::path::Path;
+
+/// The element mesh drawn over the first view into its own PNG.
+pub struct Overlay<'a> {
+    /// Where the PNG goes.
+    pub png: &'a Path,
+    /// The segments to draw (world space).
+    pub segments: &'a [[DVec3; 2]],
+}
+
+/// The views to render: the `--camera` views, else the first of `own` (the
+/// scene's cameras), else one that frames the box `lo`..`hi`.
+pub fn choose_views(plan: &ViewPlan, own: &[Camera], lo: DVec3, hi: DVec3) -> Vec<Camera> {
+    if !plan.cameras.is_empty() {
+        plan.cameras.clone()
+    } else if let Some(c) = own.first() {
+        vec![c.clone()]
+    } else {
+        vec![Camera::framing(lo, hi)]
+    }
+}
+
+/// Renders `mesh` (radiance per vertex) from every view into `out` and returns
+/// the files written. View 1 is NAME.*, view k is NAME_viewk.*; one exposure
+/// and one false-colour range serve every view, so that they compare.
+pub fn write_views(
+    mesh: &ShadedMesh,
+    views: &[Camera],
+    args: &ViewArgs,
+    plan: &ViewPlan,
+    out: &Path,
+    name: &str,
+    overlay: Option<Overlay>,
+) -> Result<Vec<String>> {
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("creating the output folder {}", out.display()))?;
+    let tone = plan.tone;
+    let mut outputs = Vec::new();
+    let mut exposure = args.exposure;
+    let mut false_range = plan.false_colour.and_then(|(_, r)| r);
+    for (i, camera) in views.iter().enumerate() {
+        let stem = if i == 0 {
+            name.to_string()
+        } else {
+            format!("{name}_view{}", i + 1)
+        };
+        let (image, depth) = render::render_with_depth(mesh, camera, args.width, args.height, 2)?;
+        let stops = *exposure.get_or_insert_with(|| render::auto_exposure(&image, tone));
+        let mut write = |suffix: &str| {
+            let path = out.join(format!("{stem}{suffix}"));
+            outputs.push(path.display().to_string());
+            path
+        };
+        render::write_exr(&image, &write(".exr"))?;
+        if args.hdr {
+            render::write_hdr(&image, &write(".hdr"))?;
+        }
+        render::write_png(&image, &write(".png"), stops, tone)?;
+        if let Some((scale, _)) = plan.false_colour {
+            let log = scale == FalseColourScale::Log;
+            let (lo, hi) = match false_range {
+                Some(r) => r,
+                None => *false_range.insert(image_range(&image, log)?),
+            };
+            let picture = render::false_colour(&image, lo, hi, log)?;
+            let path = write("_false.png");
+            picture
+                .save(&path)
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        if let (0, Some(o)) = (i, &overlay) {
+            let mut over = image.clone();
+            // Mesh lines in cyan at display white, whatever the exposure.
+            let colour = Rgb::new(0.0, 0.8, 1.0) * 2f64.powf(-stops) * 1.5;
+            render::draw_segments_depth_tested(&mut over, &depth, camera, o.segments, colour)?;
+            render::write_png(&over, o.png, stops, tone)?;
+            outputs.push(o.png.display().to_string());
+        }
+    }
+    Ok(outputs)
+}
+
+/// The false-colour range of an image: its smallest and largest luminance
+/// (on a log scale, the smallest positive one), widened when they coincide.
+fn image_range(image: &HdrImage, log: bool) -> Result<(f64, f64)> {
+    let luminance = image
+        .pixels
+        .iter()
+        .map(|p| p.luminance())
+        .filter(|l| l.is_finite() && (!log || *l > 0.0));
+    let (lo, hi) = luminance.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), l| {
+        (lo.min(l), hi.max(l))
+    });
+    if lo > hi {
+        bail!(
+            "the image has no {}pixels to scale the false colours by; give --false-colour-range",
+            if log { "lit " } else { "finite " }
+        );
+    }
+    Ok(match (log, lo < hi) {
+        (_, true) => (lo, hi),
+        (true, false) => (lo / 2.0, hi * 2.0),
+        (false, false) => (lo - 0.5, hi + 0.5),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn image_ranges() {
+        let mut img = HdrImage::new(3, 1);
+        img.set(1, 0, Rgb::splat(0.5));
+        img.set(2, 0, Rgb::splat(4.0));
+        let (lo, hi) = image_range(&img, true).unwrap();
+        assert!((lo - 0.5).abs() < 1e-12 && (hi - 4.0).abs() < 1e-12);
+        let (lo, hi) = image_range(&img, false).unwrap();
+        assert!(lo.abs() < 1e-12 && (hi - 4.0).abs() < 1e-12);
+        let black = HdrImage::new(2, 2);
+        assert!(image_range(&black, true).is_err());
+        assert_eq!(image_range(&black, false).unwrap(), (-0.5, 0.5));
+    }
+}

@@ -1,0 +1,520 @@
+//! Baked solutions: the display mesh with per-vertex radiosity as glTF
+//! (`write_baked`), read back by an independent reader (the `gltf` crate) and by
+//! `load_baked`, rendered again, and the `bake`, `render` and `diff` commands.
+
+use super::common::{closed_box, FaceMaterial};
+use glam::DVec3;
+use radiosity::gltf_io::{load_baked, write_baked, BakeColour, ImportLimits};
+use radiosity::math::Rgb;
+use radiosity::mesh::ShadingMesh;
+use radiosity::refine::RefineSettings;
+use radiosity::render::{diff, render, ShadedMesh};
+use radiosity::scene::{Camera, Scene};
+use radiosity::{scenes, Error, Settings, Solution};
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Coarse adaptive settings (T-vertices appear), fast enough for tests.
+fn coarse() -> Settings {
+    Settings {
+        patch_size: Some(0.15),
+        hemicube_resolution: 64,
+        refine: RefineSettings {
+            max_depth: 2,
+            tolerance: 0.05,
+            ..RefineSettings::default()
+        },
+        ..Settings::default()
+    }
+}
+const COARSE_FLAGS: [&str; 6] = [
+    "--patch-size",
+    "0.15",
+    "--hemicube-res",
+    "64",
+    "--max-depth",
+    "2",
+];
+
+fn solve(scene: &Scene) -> Solution {
+    radiosity::solve(scene, &coarse(), &|_| {}).unwrap()
+}
+
+fn work_dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("bake")
+        .join(name);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The display triangles grouped as the baked file must hold them: object by
+/// object, then material by material in order of first use within the object,
+/// each list in display-mesh order. Entries: (object, material, triangles).
+fn expected_groups(scene: &Scene, shading: &ShadingMesh) -> Vec<(u32, u32, Vec<usize>)> {
+    let mut groups: Vec<(u32, u32, Vec<usize>)> = Vec::new();
+    for o in 0..scene.objects.len() as u32 {
+        for (t, &s) in shading.triangle_surface.iter().enumerate() {
+            let surface = &scene.surfaces[s as usize];
+            if surface.object != o {
+                continue;
+            }
+            match groups
+                .iter_mut()
+                .find(|g| g.0 == o && g.1 == surface.material)
+            {
+                Some(g) => g.2.push(t),
+                None => groups.push((o, surface.material, vec![t])),
+            }
+        }
+    }
+    groups
+}
+
+/// What a vertex's colour times its scale must be: B, or (B - E) / rho per band
+/// (0 where rho is 0).
+fn expected_colour(mode: BakeColour, b: Rgb, scene: &Scene, material: u32) -> Rgb {
+    let m = &scene.materials[material as usize];
+    match mode {
+        BakeColour::Radiosity => b,
+        BakeColour::Light => Rgb([0, 1, 2].map(|k| {
+            if m.reflectance[k] > 0.0 {
+                ((b[k] - m.emission[k]) / m.reflectance[k]).max(0.0)
+            } else {
+                0.0
+            }
+        })),
+    }
+}
+
+/// `got` equals `want` up to one `f32` rounding of a value no larger than
+/// `size` (2^-24 relative; allowed twice that).
+fn assert_f32_close(got: Rgb, want: Rgb, size: f64, what: &str) {
+    for k in 0..3 {
+        let tolerance = size * 2f64.powi(-23);
+        assert!(
+            (got[k] - want[k]).abs() <= tolerance,
+            "{what}: band {k}: got {} want {}",
+            got[k],
+            want[k]
+        );
+    }
+}
+
+/// Reads the baked file with the `gltf` crate and checks nodes, materials and
+/// every vertex of every triangle against the solution.
+fn check_with_gltf_crate(path: &Path, scene: &Scene, shading: &ShadingMesh, mode: BakeColour) {
+    let (doc, buffers, _) = gltf::import(path).unwrap();
+    let groups = expected_groups(scene, shading);
+    let mut next_group = groups.iter();
+    let mesh_nodes: Vec<gltf::Node> = doc
+        .default_scene()
+        .unwrap()
+        .nodes()
+        .filter(|n| n.camera().is_none())
+        .collect();
+    assert_eq!(mesh_nodes.len(), scene.objects.len(), "one node per object");
+    let mut triangles_seen = 0;
+    for (o, node) in mesh_nodes.iter().enumerate() {
+        assert_eq!(node.name(), Some(scene.objects[o].name.as_str()));
+        let Some(mesh) = node.mesh() else {
+            continue;
+        };
+        assert_eq!(mesh.name(), Some(scene.objects[o].name.as_str()));
+        for prim in mesh.primitives() {
+            let (object, material, tris) = next_group.next().expect("no more groups expected");
+            assert_eq!(*object as usize, o);
+            assert_eq!(prim.material().index(), Some(*material as usize));
+            let m = prim.material();
+            let source = &scene.materials[*material as usize];
+            assert_eq!(m.name(), Some(source.name.as_str()));
+            let base = m.pbr_metallic_roughness().base_color_factor();
+            match mode {
+                BakeColour::Radiosity => {
+                    assert!(m.unlit(), "radiosity bakes are unlit");
+                    assert_eq!(base, [1.0; 4]);
+                    assert_eq!(m.emissive_factor(), [0.0; 3]);
+                }
+                BakeColour::Light => {
+                    assert!(!m.unlit(), "light bakes keep the lit material");
+                    let rho = source.reflectance.to_f32();
+                    assert_eq!(&base[..3], &rho[..]);
+                    let e = m.emissive_factor();
+                    let strength = f64::from(m.emissive_strength().unwrap_or(1.0));
+                    for (factor, exitance) in e.iter().zip(source.emission.0) {
+                        let want = exitance / PI;
+                        let got = f64::from(*factor) * strength;
+                        assert!((got - want).abs() <= 1e-6 * want.max(1.0), "{got} {want}");
+                    }
+                }
+            }
+            let scale: f64 = {
+                let extras = prim.extras().as_ref().expect("primitive extras");
+                let v: serde_json::Value = serde_json::from_str(extras.get()).unwrap();
+                v["radiosityScale"].as_f64().expect("radiosityScale")
+            };
+            assert!(scale > 0.0 && scale.log2().fract() == 0.0, "{scale}");
+            let reader = prim.reader(|b| Some(&buffers[b.index()]));
+            let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+            let colours: Vec<[f32; 3]> = reader.read_colors(0).unwrap().into_rgb_f32().collect();
+            let indices: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
+            assert_eq!(indices.len(), 3 * tris.len());
+            for c in colours.iter().flatten() {
+                assert!((0.0..=1.0).contains(c), "COLOR_0 outside [0, 1]: {c}");
+            }
+            for (k, &t) in tris.iter().enumerate() {
+                for corner in 0..3 {
+                    let v = shading.triangles[t][corner] as usize;
+                    let i = indices[3 * k + corner] as usize;
+                    let p = shading.positions[v];
+                    assert_eq!(positions[i], [p.x as f32, p.y as f32, p.z as f32]);
+                    let got = Rgb(colours[i].map(f64::from)) * scale;
+                    let want = expected_colour(mode, shading.radiosity[v], scene, *material);
+                    let what = format!("{mode} triangle {t} vertex {v}");
+                    assert_f32_close(got, want, want.max_band(), &what);
+                }
+            }
+            triangles_seen += tris.len();
+        }
+    }
+    assert!(next_group.next().is_none(), "groups missing from the file");
+    assert_eq!(triangles_seen, shading.triangles.len());
+}
+
+/// The Cornell box baked both ways, read back with the `gltf` crate: COLOR_0
+/// times the scale is the solution's vertex radiosity (radiosity mode) or
+/// (B - E) / rho (light mode), within `f32` rounding, at every vertex of every
+/// triangle, with positions exact in `f32`, one node per object, and the
+/// materials each mode promises.
+#[test]
+fn baked_colours_are_the_vertex_radiosities() {
+    let scene = scenes::cornell_box();
+    let sol = solve(&scene);
+    let shading = sol.shading_mesh();
+    let dir = work_dir("colours");
+    for (mode, file) in [
+        (BakeColour::Radiosity, "cornell_radiosity.glb"),
+        (BakeColour::Light, "cornell_light.gltf"),
+    ] {
+        let path = dir.join(file);
+        let summary = write_baked(&scene, &shading, mode, &path).unwrap();
+        assert_eq!(summary.triangles, shading.triangles.len());
+        assert_eq!(
+            summary.bytes as u64,
+            std::fs::metadata(&path).unwrap().len()
+        );
+        check_with_gltf_crate(&path, &scene, &shading, mode);
+    }
+}
+
+/// A scene with a band that reflects nothing and an emitter that reflects:
+/// in light mode the zero band stores 0 and the emitter stores only its
+/// reflected part; `load_baked` gives back every vertex radiosity of the
+/// solution (emission included) within `f32` rounding, in both modes.
+#[test]
+fn load_baked_returns_the_vertex_radiosities() {
+    let grey = FaceMaterial::grey(0.5, 0.0);
+    let mut faces = [grey; 6];
+    faces[0] = FaceMaterial {
+        reflectance: Rgb::new(0.6, 0.0, 0.3),
+        exitance: Rgb::ZERO,
+    };
+    faces[1] = FaceMaterial {
+        reflectance: Rgb::new(0.4, 0.4, 0.4),
+        exitance: Rgb::new(3.0, 2.0, 1.0),
+    };
+    let scene = closed_box(DVec3::new(1.0, 0.8, 1.2), faces);
+    let sol = solve(&scene);
+    let shading = sol.shading_mesh();
+    let dir = work_dir("round_trip");
+    for (mode, file) in [
+        (BakeColour::Radiosity, "box_radiosity.gltf"),
+        (BakeColour::Light, "box_light.glb"),
+    ] {
+        let path = dir.join(file);
+        write_baked(&scene, &shading, mode, &path).unwrap();
+        check_with_gltf_crate(&path, &scene, &shading, mode);
+        let baked = load_baked(&path, &ImportLimits::default()).unwrap();
+        assert_eq!(baked.name, path.file_stem().unwrap().to_str().unwrap());
+        let names: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(baked.objects, names);
+        // load_baked lists triangles in file order: the expected groups, concatenated.
+        let order: Vec<usize> = expected_groups(&scene, &shading)
+            .into_iter()
+            .flat_map(|g| g.2)
+            .collect();
+        assert_eq!(baked.mesh.triangles.len(), order.len());
+        for (k, &t) in order.iter().enumerate() {
+            for corner in 0..3 {
+                let v = shading.triangles[t][corner] as usize;
+                let i = baked.mesh.triangles[k][corner] as usize;
+                let p = shading.positions[v];
+                let q = baked.mesh.positions[i];
+                assert!((p - q).abs().max_element() <= 1e-7 * p.abs().max_element().max(1.0));
+                let b = shading.radiosity[v];
+                let what = format!("{mode} triangle {t} vertex {v}");
+                assert_f32_close(baked.mesh.values[i] * PI, b, b.max_band(), &what);
+            }
+        }
+    }
+}
+
+/// Renders of baked files, from the scene's camera and from another one,
+/// match renders of the solution itself within 1% relative RMSE (they should
+/// differ only by `f32` rounding).
+#[test]
+fn baked_files_render_like_the_solution() {
+    let scene = scenes::cornell_box();
+    let sol = solve(&scene);
+    let shading = sol.shading_mesh();
+    let direct = ShadedMesh {
+        positions: shading.positions.clone(),
+        values: shading.radiosity.iter().map(|b| *b / PI).collect(),
+        triangles: shading.triangles.clone(),
+    };
+    let corner = Camera::look_at(
+        DVec3::new(0.05, 0.5, 0.05),
+        DVec3::new(0.4, 0.1, 0.5),
+        DVec3::Y,
+        70.0,
+    );
+    let dir = work_dir("render");
+    for (mode, file) in [
+        (BakeColour::Radiosity, "cornell_radiosity.glb"),
+        (BakeColour::Light, "cornell_light.glb"),
+    ] {
+        let path = dir.join(file);
+        write_baked(&scene, &shading, mode, &path).unwrap();
+        let baked = load_baked(&path, &ImportLimits::default()).unwrap();
+        assert_eq!(baked.cameras.len(), 1);
+        let original = &baked.cameras[0];
+        assert!((original.position - scene.cameras[0].position).length() < 1e-12);
+        assert!((original.yfov - scene.cameras[0].yfov).abs() < 1e-12);
+        for camera in [original, &corner] {
+            let want = render(&direct, camera, 96, 96).unwrap();
+            let got = render(&baked.mesh, camera, 96, 96).unwrap();
+            let (_, m) = diff(&got, &want).unwrap();
+            assert!(want.mean().max_band() > 0.01, "the view sees the room");
+            assert!(m.relative_rmse < 0.01, "{mode}: {m:?}");
+        }
+    }
+}
+
+/// A one-triangle glTF file as other tools write them: `COLOR_0` as normalized
+/// unsigned bytes with alpha (`colour_count` of them), the primitive's
+/// `extras` as given, no material, placed by a node scaled (-1, 1, 1).
+fn triangle_file(name: &str, colour_count: usize, extras: &str) -> PathBuf {
+    let mut bin: Vec<u8> = Vec::new();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
+        for c in p {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    bin.extend_from_slice(&[255, 0, 0, 255, 0, 51, 0, 255, 0, 0, 102, 255]);
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],
+        "nodes":[{{"name":"mirrored","mesh":0,"scale":[-1,1,1]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"COLOR_0":1}}{extras}}}]}}],
+        "accessors":[
+          {{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+          {{"bufferView":0,"byteOffset":36,"componentType":5121,"normalized":true,"count":{colour_count},"type":"VEC4"}}],
+        "bufferViews":[{{"buffer":0,"byteLength":48}}],
+        "buffers":[{{"byteLength":48,"uri":"data:application/octet-stream;base64,{}"}}]}}"#,
+        base64_encode(&bin)
+    );
+    let path = work_dir("triangle_files").join(format!("{name}.gltf"));
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// Byte colours without a scale or a material (the glTF default material:
+/// white, lit, not emitting) read as given, and the mirroring node's winding
+/// is turned back to counter-clockwise.
+#[test]
+fn load_baked_reads_byte_colours_and_mirrored_nodes() {
+    let path = triangle_file("plain", 3, "");
+    let baked = load_baked(&path, &ImportLimits::default()).unwrap();
+    assert_eq!(baked.objects, vec!["mirrored".to_string()]);
+    assert_eq!(baked.mesh.triangles.len(), 1);
+    let tri = baked.mesh.triangles[0];
+    let p = tri.map(|i| baked.mesh.positions[i as usize]);
+    // Mirrored in x, then re-wound: the normal still points to +z.
+    assert!((p[1] - p[0]).cross(p[2] - p[0]).z > 0.0, "{p:?}");
+    let value_at = |x: f64, y: f64| {
+        let i = (0..3)
+            .find(|&k| (p[k] - DVec3::new(x, y, 0.0)).length() < 1e-12)
+            .unwrap();
+        baked.mesh.values[tri[i] as usize] * PI
+    };
+    // 51 / 255 = 0.2 and 102 / 255 = 0.4; the radiance is a pi-th of that.
+    for (x, y, want) in [
+        (0.0, 0.0, [1.0, 0.0, 0.0]),
+        (-1.0, 0.0, [0.0, 0.2, 0.0]),
+        (0.0, 1.0, [0.0, 0.0, 0.4]),
+    ] {
+        let got = value_at(x, y);
+        assert!(
+            (got - Rgb(want)).abs().max_band() < 1e-15,
+            "{got:?} {want:?}"
+        );
+    }
+    // A scale multiplies.
+    let scaled = triangle_file("scaled", 3, r#","extras":{"radiosityScale":4}"#);
+    let baked = load_baked(&scaled, &ImportLimits::default()).unwrap();
+    let top = baked
+        .mesh
+        .values
+        .iter()
+        .map(|v| v.max_band() * PI)
+        .fold(0.0, f64::max);
+    assert!((top - 4.0).abs() < 1e-12, "{top}");
+}
+
+/// Malformed baked files are errors that name the fault.
+#[test]
+fn malformed_baked_files_are_named() {
+    let limits = ImportLimits::default();
+    let short = triangle_file("short_colours", 2, "");
+    let e = load_baked(&short, &limits).unwrap_err();
+    assert!(e.to_string().contains("COLOR_0 has 2 values for 3"), "{e}");
+    for (name, extras) in [
+        ("negative_scale", r#","extras":{"radiosityScale":-1}"#),
+        ("text_scale", r#","extras":{"radiosityScale":"big"}"#),
+    ] {
+        let e = load_baked(&triangle_file(name, 3, extras), &limits).unwrap_err();
+        assert!(e.to_string().contains("radiosityScale"), "{name}: {e}");
+    }
+    let tight = ImportLimits {
+        max_triangles: 0,
+        ..ImportLimits::default()
+    };
+    let e = load_baked(&triangle_file("limited", 3, ""), &tight).unwrap_err();
+    assert!(matches!(e, Error::Limit(_)), "{e}");
+}
+
+/// Standard base64 (the suite has no encoder of its own).
+fn base64_encode(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            chunk.get(1).copied().unwrap_or(0),
+            chunk.get(2).copied().unwrap_or(0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[((n >> (18 - 6 * k)) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// A scene file without vertex colours is not a baked solution, and a display
+/// mesh that does not belong to the scene is refused before anything is
+/// written.
+#[test]
+fn bad_inputs_are_named() {
+    let scene_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell_box.gltf");
+    let e = load_baked(&scene_file, &ImportLimits::default()).unwrap_err();
+    assert!(
+        matches!(e, Error::Gltf { .. }) && e.to_string().contains("COLOR_0"),
+        "{e}"
+    );
+
+    let scene = scenes::cornell_box();
+    let mut shading = solve(&scene).shading_mesh();
+    let dir = work_dir("bad");
+    let e = write_baked(&scene, &shading, BakeColour::Light, &dir.join("x.obj")).unwrap_err();
+    assert!(e.to_string().contains(".glb"), "{e}");
+    let last = shading.triangle_surface.len() - 1;
+    shading.triangle_surface[last] = scene.surfaces.len() as u32;
+    let path = dir.join("bad.glb");
+    let e = write_baked(&scene, &shading, BakeColour::Light, &path).unwrap_err();
+    assert!(
+        matches!(e, Error::Output { .. }) && e.to_string().contains("surface"),
+        "{e}"
+    );
+    assert!(!path.exists());
+}
+
+/// The commands end to end: `bake` (coarse settings), `render` of the baked
+/// file with HDR and false-colour output, `solve` with the same settings, and
+/// `diff --json` of the two EXR files: well under 1% relative RMSE.
+#[test]
+fn bake_render_and_diff_commands() {
+    let dir = work_dir("cli");
+    let run = |args: &[&str]| -> String {
+        let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let d = dir.to_str().unwrap();
+    let baked = dir.join("cornell_box.glb");
+    let mut bake = vec!["bake", "cornell_box", "--quiet", "--colour", "light", "-o"];
+    bake.push(baked.to_str().unwrap());
+    bake.extend(COARSE_FLAGS);
+    run(&bake);
+    let rendered = format!("{d}/rendered");
+    run(&[
+        "render",
+        baked.to_str().unwrap(),
+        "--out",
+        &rendered,
+        "--width",
+        "128",
+        "--height",
+        "128",
+        "--hdr",
+        "--false-colour",
+        "--quiet",
+    ]);
+    for f in [
+        "cornell_box.exr",
+        "cornell_box.hdr",
+        "cornell_box.png",
+        "cornell_box_false.png",
+    ] {
+        assert!(Path::new(&rendered).join(f).exists(), "{f} missing");
+    }
+    let solved = format!("{d}/solved");
+    let mut solve = vec![
+        "solve",
+        "cornell_box",
+        "--quiet",
+        "--width",
+        "128",
+        "--height",
+        "128",
+        "--out",
+    ];
+    solve.push(&solved);
+    solve.extend(COARSE_FLAGS);
+    run(&solve);
+    let difference = format!("{d}/difference.exr");
+    let text = run(&[
+        "diff",
+        &format!("{rendered}/cornell_box.exr"),
+        &format!("{solved}/cornell_box.exr"),
+        "-o",
+        &difference,
+        "--json",
+    ]);
+    let report: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let relative = report["relative_rmse"].as_f64().unwrap();
+    assert!(relative < 0.01, "{report}");
+    assert!(report["mae"].as_f64().unwrap() >= 0.0 && report["rmse"].is_f64());
+    assert!(Path::new(&difference).exists());
+}
