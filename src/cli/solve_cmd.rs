@@ -5,11 +5,12 @@ use super::camera_arg::parse_camera;
 use super::progress_bar::Bars;
 use anyhow::{bail, Context, Result};
 use radiosity::gltf_io::{self, ImportLimits};
-use radiosity::pipeline::{ObjectRadiosity, SolveStats};
+use radiosity::pipeline::{ObjectRadiosity, Preview, SolveStats};
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, ShadedMesh, ToneMap};
 use radiosity::scene::{Camera, Scene};
-use radiosity::solve::SolverSettings;
+use radiosity::solve::progressive::ProgressiveStats;
+use radiosity::solve::{ProgressiveSettings, SolverSettings};
 use radiosity::{scenes, Settings};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -30,8 +31,14 @@ pub fn load(scene: &str) -> Result<Scene> {
     Ok(gltf_io::load_scene(path, &ImportLimits::default())?)
 }
 
-fn settings(a: &SolveArgs) -> Settings {
-    Settings {
+fn settings(a: &SolveArgs) -> Result<Settings> {
+    let time_budget = match a.time_budget {
+        Some(t) if !(t.is_finite() && t >= 0.0) => {
+            bail!("--time-budget must be a number of seconds >= 0, got {t}")
+        }
+        t => t.map(std::time::Duration::from_secs_f64),
+    };
+    Ok(Settings {
         hemicube_resolution: a.hemicube_res,
         patch_size: a.patch_size,
         seed: a.seed,
@@ -39,6 +46,15 @@ fn settings(a: &SolveArgs) -> Settings {
             tolerance: a.tolerance,
             max_iterations: a.max_iterations,
             relaxation: a.relaxation,
+        },
+        solver_kind: a.solver.parse().map_err(anyhow::Error::msg)?,
+        progressive: ProgressiveSettings {
+            tolerance: a.unshot_tolerance,
+            max_shots: a.max_shots,
+            time_budget,
+            preview_every: a.preview_every,
+            shooter_depth: a.shooter_depth,
+            ..ProgressiveSettings::default()
         },
         refine: RefineSettings {
             uniform_depth: a.uniform_depth,
@@ -50,7 +66,7 @@ fn settings(a: &SolveArgs) -> Settings {
             ..RefineSettings::default()
         },
         ..Settings::default()
-    }
+    })
 }
 
 #[derive(Serialize)]
@@ -80,6 +96,8 @@ struct Report<'a> {
     energy: &'a radiosity::pipeline::EnergyBalance,
     hemicube: &'a radiosity::pipeline::HemicubeFigures,
     passes: &'a [radiosity::pipeline::PassStats],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    progressive: Option<&'a ProgressiveStats>,
     final_max_difference: f64,
     patch_size: f64,
     threads: usize,
@@ -129,12 +147,6 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         eprintln!("warning: {w}");
     }
 
-    let bars = Bars::new(a.quiet);
-    let solution = radiosity::solve(&scene, &settings(a), &|p| bars.update(p))
-        .with_context(|| format!("solving '{}'", scene.name))?;
-    bars.finish();
-
-    let t = Instant::now();
     let views: Vec<Camera> = if !cameras.is_empty() {
         cameras
     } else if let Some(c) = scene.cameras.first() {
@@ -143,6 +155,34 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         let (lo, hi) = scene.bounds();
         vec![Camera::framing(lo, hi)]
     };
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("creating the output folder {}", a.out.display()))?;
+    let mut outputs = Vec::new();
+
+    let bars = Bars::new(a.quiet);
+    let mut previews = PreviewWriter {
+        args: a,
+        scene: &scene.name,
+        camera: &views[0],
+        tone,
+        exposure: a.exposure,
+        written: Vec::new(),
+        error: None,
+    };
+    let solution = radiosity::pipeline::solve_with_previews(
+        &scene,
+        &settings(a)?,
+        &|p| bars.update(p),
+        &mut |p| previews.write(p),
+    )
+    .with_context(|| format!("solving '{}'", scene.name))?;
+    bars.finish();
+    if let Some(e) = previews.error {
+        return Err(e);
+    }
+    outputs.append(&mut previews.written);
+
+    let t = Instant::now();
     let shading = solution.shading_mesh();
     let mesh = ShadedMesh {
         positions: shading.positions.clone(),
@@ -153,9 +193,6 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
             .collect(),
         triangles: shading.triangles.clone(),
     };
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("creating the output folder {}", a.out.display()))?;
-    let mut outputs = Vec::new();
     let mut exposure = a.exposure;
     for (i, camera) in views.iter().enumerate() {
         let stem = if i == 0 {
@@ -215,6 +252,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         energy: &s.energy,
         hemicube: &s.hemicube,
         passes: &s.passes,
+        progressive: s.progressive.as_ref(),
         final_max_difference: s.final_max_difference,
         patch_size: s.patch_size,
         threads,
@@ -237,6 +275,54 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Writes the previews of a progressive solve: the first view, with the
+/// ambient term, at one exposure for all (the first preview's unless
+/// `--exposure` is given) so that they show the image filling in.
+struct PreviewWriter<'a> {
+    args: &'a SolveArgs,
+    scene: &'a str,
+    camera: &'a Camera,
+    tone: ToneMap,
+    exposure: Option<f64>,
+    written: Vec<String>,
+    error: Option<anyhow::Error>,
+}
+
+impl PreviewWriter<'_> {
+    fn write(&mut self, p: &Preview<'_>) {
+        if self.error.is_none() {
+            if let Err(e) = self.try_write(p) {
+                self.error = Some(e);
+            }
+        }
+    }
+
+    fn try_write(&mut self, p: &Preview<'_>) -> Result<()> {
+        let shading = p.shading_mesh(true);
+        let mesh = ShadedMesh {
+            positions: shading.positions,
+            values: shading
+                .radiosity
+                .iter()
+                .map(|b| *b / std::f64::consts::PI)
+                .collect(),
+            triangles: shading.triangles,
+        };
+        let (image, _) =
+            render::render_with_depth(&mesh, self.camera, self.args.width, self.args.height, 2)?;
+        let stops = *self
+            .exposure
+            .get_or_insert_with(|| render::auto_exposure(&image, self.tone));
+        let png = self
+            .args
+            .out
+            .join(format!("{}_preview_{:04}.png", self.scene, p.shots));
+        render::write_png(&image, &png, stops, self.tone)?;
+        self.written.push(png.display().to_string());
+        Ok(())
+    }
 }
 
 fn write_json<T: Serialize>(path: &PathBuf, value: &T) -> Result<()> {

@@ -1,11 +1,13 @@
 //! The whole solve: mesh, form factors, coarse solve, gather, refine, repeat.
 
 mod progress;
+mod progressive;
 mod settings;
 mod solution;
 mod stats;
 
 pub use progress::{Progress, Stage};
+pub use progressive::{solve_with_previews, Preview};
 pub use settings::Settings;
 pub use solution::{ObjectRadiosity, Solution};
 pub use stats::{EnergyBalance, HemicubeFigures, PassStats, SolveStats, StageSeconds};
@@ -17,16 +19,21 @@ use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::mark_for_split;
 use crate::scene::Scene;
-use crate::solve::{gather, gauss_seidel, PatchSystem};
+use crate::solve::{gather, gauss_seidel, PatchSystem, SolverKind};
 use std::sync::Arc;
 use std::time::Instant;
 
 /// Solves `scene` with `settings`, reporting progress through `progress`.
+/// `settings.solver_kind` chooses gathering (Gauss-Seidel) or shooting
+/// (progressive refinement; see [`solve_with_previews`] for its previews).
 pub fn solve(
     scene: &Scene,
     settings: &Settings,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<Solution> {
+    if settings.solver_kind == SolverKind::Progressive {
+        return progressive::solve_progressive(scene, settings, progress, None);
+    }
     settings.validate()?;
     if scene.surfaces.is_empty() {
         return Err(Error::Geometry(format!(
