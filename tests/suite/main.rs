@@ -4,4 +4,5 @@
 mod common;
 mod enclosures;
 mod hemicube;
+mod progressive;
 mod substructuring;
