@@ -6,6 +6,7 @@ use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 use slotmap::SecondaryMap;
+use std::ops::Range;
 
 /// The leaf elements of a mesh as receivers. Rebuilt whenever the mesh is
 /// refined.
@@ -15,6 +16,11 @@ pub struct Receivers {
     pub leaves: Vec<ElementKey>,
     /// Leaf polygons; polygon `i` is leaf `i`.
     pub sources: Sources,
+    /// Patch polygons; polygon `p` is patch `p`.
+    pub patch_sources: Sources,
+    /// The leaves of each patch: a range of leaf indices (leaves are stored
+    /// patch by patch).
+    pub patch_leaves: Vec<Range<u32>>,
     /// Position of each leaf in `leaves`.
     pub index: SecondaryMap<ElementKey, u32>,
     /// Where each leaf receives: its centroid lifted off the surface by a
@@ -39,10 +45,16 @@ impl Receivers {
         let mut normals = Vec::with_capacity(leaves.len());
         let mut areas = Vec::with_capacity(leaves.len());
         let mut reflectances = Vec::with_capacity(leaves.len());
+        let mut patch_leaves = vec![0..0; mesh.patches.len()];
         for (i, &k) in leaves.iter().enumerate() {
             let e = &mesh.elements[k];
             let n = mesh.surfaces[e.surface as usize].normal;
             index.insert(k, i as u32);
+            let range = &mut patch_leaves[e.patch as usize];
+            if range.start == range.end {
+                *range = i as u32..i as u32;
+            }
+            range.end = i as u32 + 1;
             eyes.push(e.centroid + n * (1e-6 * e.area.sqrt()));
             normals.push(n);
             areas.push(e.area);
@@ -51,6 +63,8 @@ impl Receivers {
         Receivers {
             leaves,
             sources,
+            patch_sources: Sources::from_mesh(mesh),
+            patch_leaves,
             index,
             eyes,
             normals,

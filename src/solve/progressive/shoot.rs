@@ -31,10 +31,10 @@
 //!
 //! [`ProgressiveSettings::shooter_depth`]: super::ProgressiveSettings::shooter_depth
 
-use super::visibility::visible_fractions;
+use super::visibility::{partly_visible, visible_fractions};
 use super::Receivers;
 use crate::formfactor::hemicube::{Coverage, DeltaTable, Hemicube};
-use crate::formfactor::{element_seed, point_to_polygon, FormFactorMethod};
+use crate::formfactor::{element_seed, point_to_polygon, FormFactorMethod, Sources};
 use crate::math::{polygon_area, polygon_centroid, Rgb};
 use crate::mesh::{Cell, Mesh};
 use glam::DVec3;
@@ -76,6 +76,9 @@ pub struct ShotFactors {
     pub hidden_splits: usize,
     /// Cells still shut in at the deepest split, which shot nothing.
     pub hidden_cells: usize,
+    /// Hybrid: patches found partly visible from a cell, whose leaves were
+    /// rendered one by one (summed over cells).
+    pub partly_visible: usize,
 }
 
 /// One cell of the shooting patch, as a shooter.
@@ -192,6 +195,7 @@ impl Shooter {
             shot.clips += counts.clips;
             shot.hidden_splits += counts.hidden_splits;
             shot.hidden_cells += counts.hidden_cells;
+            shot.partly_visible += counts.partly_visible;
             for (i, f) in out {
                 let slot = &mut self.dense[i as usize];
                 if *slot == 0.0 {
@@ -261,13 +265,13 @@ impl CellContext<'_> {
     fn shoot(&self, cube: &mut Hemicube, cell: &Cell, record: bool, r: &mut CellResult) {
         let s = self.cell_shooter(cell);
         let normal = self.mesh.surfaces[self.surface as usize].normal;
-        let seen = cube.coverage(
-            &self.receivers.sources,
-            s.eye,
-            normal,
-            s.angle,
-            self.surface,
-        );
+        // Hybrid renders patches first (see `visibility`); classic needs every
+        // leaf's own pixel count.
+        let first = match self.method {
+            FormFactorMethod::Hybrid => &self.receivers.patch_sources,
+            FormFactorMethod::Hemicube => &self.receivers.sources,
+        };
+        let seen = cube.coverage(first, s.eye, normal, s.angle, self.surface);
         let can_split = self.level_of(cell) < self.deepest && cell.size() >= 2;
         if seen.back_faces > HIDDEN_EYE {
             // The eye is shut in (a point of the floor under a box): it sees
@@ -288,7 +292,11 @@ impl CellContext<'_> {
             r.open.push(*cell);
         }
         match self.method {
-            FormFactorMethod::Hybrid => self.hybrid(&s, normal, &seen.polygons, &mut r.out),
+            FormFactorMethod::Hybrid => {
+                let leaves =
+                    self.partly_visible_leaves(cube, &s, normal, &seen.polygons, &mut r.counts);
+                self.hybrid(&s, normal, &seen.polygons, &leaves, &mut r.out);
+            }
             FormFactorMethod::Hemicube => {
                 let reciprocal: Vec<(u32, f64)> = seen
                     .polygons
@@ -313,16 +321,67 @@ impl CellContext<'_> {
         }
     }
 
+    /// Renders the leaves of the partly visible patches among the other
+    /// patches, and returns their coverage by leaf index.
+    fn partly_visible_leaves(
+        &self,
+        cube: &mut Hemicube,
+        s: &Cellshooter,
+        normal: DVec3,
+        patches: &[Coverage],
+        counts: &mut ShotFactors,
+    ) -> Vec<Coverage> {
+        let partly = partly_visible(patches);
+        counts.partly_visible += partly.len();
+        if partly.is_empty() {
+            return Vec::new();
+        }
+        let r = self.receivers;
+        let extra: usize = partly
+            .iter()
+            .map(|&p| r.patch_leaves[p as usize].len())
+            .sum();
+        let mut mixed = Sources {
+            polygons: Vec::with_capacity(r.patch_sources.polygons.len() + extra),
+        };
+        // Leaf index of each polygon of the mixed list; whole patches only hide.
+        let mut leaf_of = Vec::with_capacity(mixed.polygons.capacity());
+        let mut next = partly.iter().peekable();
+        for (p, poly) in r.patch_sources.polygons.iter().enumerate() {
+            if next.peek() == Some(&&(p as u32)) {
+                next.next();
+                let range = r.patch_leaves[p].clone();
+                mixed.polygons.extend_from_slice(
+                    &r.sources.polygons[range.start as usize..range.end as usize],
+                );
+                leaf_of.extend(range);
+            } else {
+                mixed.polygons.push(poly.clone());
+                leaf_of.push(u32::MAX);
+            }
+        }
+        let seen = cube.coverage(&mixed, s.eye, normal, s.angle, self.surface);
+        seen.polygons
+            .into_iter()
+            .filter(|c| leaf_of[c.id as usize] != u32::MAX)
+            .map(|c| Coverage {
+                id: leaf_of[c.id as usize],
+                ..c
+            })
+            .collect()
+    }
+
     /// Hybrid: exact magnitude from each leaf's receiving point, visibility
     /// from the cell's item buffer.
     fn hybrid(
         &self,
         s: &Cellshooter,
         normal: DVec3,
-        coverage: &[Coverage],
+        patches: &[Coverage],
+        leaves: &[Coverage],
         out: &mut Vec<(u32, f64)>,
     ) {
-        for (i, v) in visible_fractions(self.mesh, self.receivers, coverage) {
+        for (i, v) in visible_fractions(self.mesh, self.receivers, patches, leaves) {
             let eye = self.receivers.eyes[i as usize];
             // A leaf behind the shooter's plane cannot receive from its front,
             // even when it inherits a visible fraction from its ancestors.

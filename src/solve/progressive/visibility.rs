@@ -1,5 +1,12 @@
 //! How much of each receiving leaf a shooter's eye sees, from its item buffer.
 //!
+//! The item buffer is rendered twice. First with one polygon per patch: a
+//! patch whose pixels all won is fully visible, and so is every leaf of it;
+//! one that won none is hidden. Only the partly visible patches are then
+//! rendered leaf by leaf, among the other patches as whole polygons that can
+//! hide them. Most patches are seen whole or not at all, so most leaves never
+//! reach the rasterizer.
+//!
 //! A leaf that covers many pixels gets its own fraction `won / covered`. A leaf
 //! that covers only a few (or none: smaller than a pixel, as deep elements far
 //! from the shooter are) cannot be judged from its own pixels: taking them at
@@ -21,27 +28,48 @@ struct Sums {
     pixels: u32,
 }
 
-/// The visible fraction of every leaf of every patch that the item buffer
-/// touched, as `(leaf index, fraction)` in increasing leaf order, leaving out
-/// leaves with nothing visible. `coverage` must be sorted by id (as
-/// [`crate::formfactor::hemicube::Hemicube::coverage`] returns it).
+/// A patch whose won pixels add up to at least this fraction of its covered
+/// ones counts as fully visible (the sums differ only by rounding then).
+const WHOLE: f64 = 1.0 - 1e-9;
+
+/// The patches of a patch-level item buffer that are partly visible, by
+/// increasing id.
+#[must_use]
+pub fn partly_visible(patches: &[Coverage]) -> Vec<u32> {
+    patches
+        .iter()
+        .filter(|c| c.won > 0.0 && c.won < WHOLE * c.covered)
+        .map(|c| c.id)
+        .collect()
+}
+
+/// The visible fraction of every leaf of every patch seen, as `(leaf index,
+/// fraction)` in increasing leaf order, leaving out leaves with nothing
+/// visible. `patches` is the patch-level coverage, `leaves` the leaf-level
+/// coverage of the [`partly_visible`] patches (ids are leaf indices); both
+/// sorted by id.
 #[must_use]
 pub fn visible_fractions(
     mesh: &Mesh,
     receivers: &Receivers,
-    coverage: &[Coverage],
+    patches: &[Coverage],
+    leaves: &[Coverage],
 ) -> Vec<(u32, f64)> {
     let mut out = Vec::new();
-    let mut last_patch = None;
-    for c in coverage {
-        let patch = mesh.elements[receivers.leaves[c.id as usize]].patch;
-        // Leaves are stored patch by patch, so each patch comes up in one run.
-        if last_patch == Some(patch) {
+    for c in patches {
+        if c.won <= 0.0 {
             continue;
         }
-        last_patch = Some(patch);
-        let root = mesh.patches[patch as usize].root;
-        assign(mesh, receivers, coverage, root, None, true, &mut out);
+        if c.won >= WHOLE * c.covered {
+            out.extend(
+                receivers.patch_leaves[c.id as usize]
+                    .clone()
+                    .map(|i| (i, 1.0)),
+            );
+        } else {
+            let root = mesh.patches[c.id as usize].root;
+            assign(mesh, receivers, leaves, root, None, true, &mut out);
+        }
     }
     out
 }
