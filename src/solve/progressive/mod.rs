@@ -25,6 +25,7 @@
 //! The driver that runs these over a scene is `pipeline::progressive`.
 
 mod ambient;
+mod cell;
 mod newborn;
 mod receivers;
 mod report;
