@@ -435,3 +435,73 @@ fn same_seed_gives_the_same_bits_at_any_thread_count() {
     };
     assert_eq!(leaves(&a), leaves(&b));
 }
+
+/// Two unit squares 5 cm apart, facing each other; the lower one emits 1 and
+/// neither reflects, so one shot decides everything.
+fn close_plates(gap: f64) -> radiosity::scene::Scene {
+    let mut b = radiosity::scene::SceneBuilder::new("plates");
+    let lamp = b
+        .material("lamp", Rgb::ZERO, Rgb::splat(1.0 / std::f64::consts::PI))
+        .unwrap();
+    let black = b.material("black", Rgb::ZERO, Rgb::ZERO).unwrap();
+    let p = DVec3::new;
+    b.object("lower");
+    b.polygon(
+        lamp,
+        &[p(0., 0., 0.), p(0., 0., 1.), p(1., 0., 1.), p(1., 0., 0.)],
+    )
+    .unwrap();
+    b.object("upper");
+    b.polygon(
+        black,
+        &[
+            p(0., gap, 0.),
+            p(1., gap, 0.),
+            p(1., gap, 1.),
+            p(0., gap, 1.),
+        ],
+    )
+    .unwrap();
+    b.build().unwrap()
+}
+
+#[test]
+fn reciprocals_above_one_split_the_shooter_and_are_counted() {
+    // 1 cm apart, a 1/32 m element straight above a shooter's eye subtends
+    // about half its hemisphere: the classic reciprocal F_se A_s / A_e of the
+    // whole 1 m^2 plate would be hundreds. The classic shooter splits until it
+    // is not; the hybrid never forms a reciprocal. Both must deliver the exact
+    // plate-to-plate form factor.
+    let gap = 0.01;
+    let scene = close_plates(gap);
+    let exact = radiosity::analytic::parallel_rectangles(1.0, 1.0, gap).unwrap();
+    for (method, tolerance) in [
+        (FormFactorMethod::Hemicube, 0.02),
+        (FormFactorMethod::Hybrid, 0.01),
+    ] {
+        let s = progressive(
+            Settings {
+                form_factors: method,
+                ..uniform(1.0, 5)
+            },
+            ProgressiveSettings {
+                shooter_depth: 0,
+                ..ProgressiveSettings::default()
+            },
+        );
+        let sol = radiosity::solve(&scene, &s, &|_| {}).unwrap();
+        let f = stats(&sol);
+        assert_eq!(f.shots, 1, "{method:?}: one emitter, nothing reflects");
+        // All the power the upper plate absorbs came in the one shot.
+        let received = sol.stats.energy.absorbed_power[0] / sol.stats.energy.emitted_power[0];
+        assert!(
+            rel(received, exact) < tolerance,
+            "{method:?}: plate-to-plate form factor {received} vs exact {exact}"
+        );
+        assert_eq!(f.reciprocity_clips, 0, "{method:?}");
+        match method {
+            FormFactorMethod::Hemicube => assert!(f.shooter_splits > 0),
+            FormFactorMethod::Hybrid => assert_eq!(f.shooter_splits, 0),
+        }
+    }
+}

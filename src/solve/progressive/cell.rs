@@ -39,7 +39,7 @@ pub(super) struct CellContext<'a> {
     pub(super) surface: u32,
     pub(super) seed: u64,
     pub(super) method: FormFactorMethod,
-    /// Deepest cell level below the patch.
+    /// Deepest cell level below the patch for splits of shut-in cells.
     pub(super) deepest: u8,
 }
 
@@ -73,8 +73,8 @@ impl CellContext<'_> {
             FormFactorMethod::Hemicube => &self.receivers.sources,
         };
         let seen = cube.coverage(first, s.eye, normal, s.angle, self.surface);
-        let can_split = self.level_of(cell) < self.deepest && cell.size() >= 2;
         if seen.back_faces > HIDDEN_EYE {
+            let can_split = self.level_of(cell) < self.deepest && cell.size() >= 2;
             // The eye is shut in (a point of the floor under a box): it sees
             // nothing, but part of the cell may lie outside. Smaller cells find
             // that part; what stays shut in at the deepest level is seen by no
@@ -105,7 +105,11 @@ impl CellContext<'_> {
                     .filter(|c| c.won > 0.0)
                     .map(|c| (c.id, c.won * s.area / self.receivers.areas[c.id as usize]))
                     .collect();
-                if can_split && reciprocal.iter().any(|e| e.1 > 1.0) {
+                // No level limit here: once a cell is no larger than the
+                // receivers it overshoots, `F_se A_s / A_e <= F_se <= 1`, so
+                // the splitting stops by itself (or at the lattice's finest
+                // cell).
+                if cell.size() >= 2 && reciprocal.iter().any(|e| e.1 > 1.0) {
                     r.counts.splits += 1;
                     for child in cell.children() {
                         self.shoot(cube, &child, false, r);

@@ -50,8 +50,8 @@ pub struct ProgressiveStats {
     pub shot_hemicubes: u64,
     /// Classic shooter cells split because a reciprocal form factor exceeded 1.
     pub shooter_splits: usize,
-    /// Classic reciprocal form factors still above 1 after the deepest split,
-    /// clipped to 1.
+    /// Classic reciprocal form factors still above 1 at the lattice's finest
+    /// shooter cell, clipped to 1.
     pub reciprocity_clips: usize,
     /// Shooter cells split because their eye was shut inside an object.
     pub hidden_eye_splits: usize,

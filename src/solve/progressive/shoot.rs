@@ -14,13 +14,17 @@
 //!   ever formed, so nothing can exceed 1 in the near field.
 //! - [`FormFactorMethod::Hemicube`]: the classic reciprocal `F_se A_s / A_e`
 //!   with `F_se` the leaf's delta form factors. Where one of these exceeds 1
-//!   the cell is split into four smaller shooters, up to [`MAX_SHOOTER_SPLITS`]
-//!   times; what still exceeds 1 after that is clipped to 1 and counted.
+//!   the cell is split into four smaller shooters, again and again until no
+//!   reciprocal exceeds 1 (which it cannot once the cell is no larger than
+//!   the receiver); only at the lattice's finest cell would one be clipped to
+//!   1, and counted. Near-field splits can be many: a point-sampled shooter
+//!   is a poor model of a large patch close to its receivers, which is what
+//!   the hybrid form avoids.
 //!
 //! A cell whose eye is shut in (back faces fill most of its view, as under a
-//! box standing on the floor) is split the same way, so that the part of the
-//! cell outside still shoots; a receiver gathering from the patch would see
-//! that part, and not the part inside.
+//! box standing on the floor) is split too, up to [`MAX_SHOOTER_SPLITS`]
+//! times, so that the part of the cell outside still shoots; a receiver
+//! gathering from the patch would see that part, and not the part inside.
 //!
 //! The implied row sum `sum_e F_ei A_e / A_i` is 1 in a closed scene, up to
 //! the point sampling of each receiver (a leaf that straddles an occluder's
@@ -41,7 +45,7 @@ use rayon::prelude::*;
 use std::sync::Arc;
 
 /// How many times a shooter cell may be split further when its eye is shut
-/// in, or (classic) when a reciprocal form factor exceeds 1.
+/// in.
 pub const MAX_SHOOTER_SPLITS: u8 = 3;
 
 /// A cell's eye counts as shut in when back faces fill more than this part of
@@ -67,8 +71,8 @@ pub struct ShotFactors {
     pub pixels_tested: u64,
     /// Classic shooter cells split because a reciprocal form factor exceeded 1.
     pub splits: usize,
-    /// Classic reciprocal form factors still above 1 at the deepest split,
-    /// clipped to 1.
+    /// Classic reciprocal form factors still above 1 at the lattice's finest
+    /// cell, clipped to 1.
     pub clips: usize,
     /// Cells split because their eye was shut in.
     pub hidden_splits: usize,
