@@ -3,10 +3,11 @@
 //! mean radiosity against the converged mean with and without the ambient
 //! term, and the error against the converged solution as a function of time.
 //!
-//! `cargo run --release --example progressive_figures -- [PATCH_SIZE] [DEPTH] [SHOOTER_DEPTH] [hybrid|hemicube]`
+//! `cargo run --release --example progressive_figures -- [PATCH_SIZE|default] [DEPTH|adaptive] [SHOOTER_DEPTH] [hybrid|hemicube]`
 //! (defaults: the scene's default patch size, uniform depth 1, shooter depth 1,
 //! hybrid). A uniform depth keeps the mesh fixed, so that previews and the
-//! converged solution compare leaf by leaf.
+//! converged solution compare leaf by leaf; with `adaptive` only the agreement
+//! with Gauss-Seidel is printed.
 
 use radiosity::formfactor::FormFactorMethod;
 use radiosity::math::Rgb;
@@ -64,8 +65,15 @@ fn mean_luminance(values: &[Rgb], areas: &[f64]) -> f64 {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let scene = scenes::cornell_box();
-    let patch_size = args.get(1).map(|a| a.parse::<f64>().expect("patch size"));
-    let depth: u8 = args.get(2).map_or(1, |a| a.parse().expect("depth"));
+    let patch_size = args
+        .get(1)
+        .filter(|a| *a != "default")
+        .map(|a| a.parse::<f64>().expect("patch size"));
+    let depth: Option<u8> = match args.get(2).map(String::as_str) {
+        None => Some(1),
+        Some("adaptive") => None,
+        Some(a) => Some(a.parse().expect("depth")),
+    };
     let shooter_depth: u8 = args.get(3).map_or(1, |a| a.parse().expect("shooter depth"));
     let method: FormFactorMethod = args
         .get(4)
@@ -74,7 +82,7 @@ fn main() {
         patch_size,
         form_factors: method,
         refine: RefineSettings {
-            uniform_depth: Some(depth),
+            uniform_depth: depth,
             ..RefineSettings::default()
         },
         ..Settings::default()
@@ -116,7 +124,7 @@ fn main() {
     let stats = pr.stats.progressive.as_ref().expect("progressive stats");
 
     println!(
-        "patch size {:.4} m, uniform depth {depth}, shooter depth {shooter_depth}, {method:?}: \
+        "patch size {:.4} m, uniform depth {depth:?}, shooter depth {shooter_depth}, {method:?}: \
          {} patches, {} leaves",
         pr.stats.patch_size, pr.stats.patches, pr.stats.elements
     );
@@ -162,6 +170,9 @@ fn main() {
         );
     }
     println!("  worst {:.3}%", 100.0 * worst);
+    if depth.is_none() {
+        return;
+    }
 
     let converged: Vec<Rgb> = pr
         .mesh

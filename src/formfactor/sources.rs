@@ -27,6 +27,38 @@ pub struct Sources {
     pub polygons: Vec<SourcePolygon>,
 }
 
+impl Sources {
+    /// The patch polygons of a mesh.
+    #[must_use]
+    pub fn from_mesh(mesh: &Mesh) -> Self {
+        let polygons = mesh
+            .patches
+            .iter()
+            .map(|p| {
+                let mut vertices = [DVec3::ZERO; 4];
+                for (i, v) in p.polygon.iter().enumerate() {
+                    vertices[i] = *v;
+                }
+                let centre = p.polygon.iter().copied().sum::<DVec3>() / p.polygon.len() as f64;
+                let radius = p
+                    .polygon
+                    .iter()
+                    .map(|v| (*v - centre).length())
+                    .fold(0.0, f64::max);
+                SourcePolygon {
+                    vertices,
+                    count: p.polygon.len() as u8,
+                    normal: mesh.surfaces[p.surface as usize].normal,
+                    surface: p.surface,
+                    centre,
+                    radius,
+                }
+            })
+            .collect();
+        Sources { polygons }
+    }
+}
+
 impl SourcePolygon {
     /// The source polygon of a convex world polygon (3 or 4 vertices) with its
     /// surface's unit normal.
@@ -53,23 +85,6 @@ impl SourcePolygon {
 }
 
 impl Sources {
-    /// The patch polygons of a mesh.
-    #[must_use]
-    pub fn from_mesh(mesh: &Mesh) -> Self {
-        let polygons = mesh
-            .patches
-            .iter()
-            .map(|p| {
-                SourcePolygon::new(
-                    &p.polygon,
-                    mesh.surfaces[p.surface as usize].normal,
-                    p.surface,
-                )
-            })
-            .collect();
-        Sources { polygons }
-    }
-
     /// The polygons of the given elements, with ids their positions in `keys`
     /// (an item buffer of element ids, as a shooting patch needs).
     #[must_use]
