@@ -359,7 +359,7 @@ fn each_stopping_rule_stops_the_solve() {
 #[test]
 fn bad_progressive_settings_are_named() {
     let scene = scenes::cornell_box();
-    let cases: [(&str, ProgressiveSettings); 5] = [
+    let cases: [(&str, ProgressiveSettings); 6] = [
         (
             "unshot-tolerance",
             ProgressiveSettings {
@@ -385,6 +385,13 @@ fn bad_progressive_settings_are_named() {
             "shooter-depth",
             ProgressiveSettings {
                 shooter_depth: 9,
+                ..ProgressiveSettings::default()
+            },
+        ),
+        (
+            "fine-shot-power",
+            ProgressiveSettings {
+                fine_shot_power: -1.0,
                 ..ProgressiveSettings::default()
             },
         ),

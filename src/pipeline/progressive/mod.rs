@@ -107,12 +107,7 @@ pub(crate) fn solve_progressive(
         row_sum_total: 0.0,
     };
     run.stats.seconds.mesh = t.elapsed().as_secs_f64();
-    let mut shooter = Shooter::new(
-        table,
-        settings.seed,
-        settings.form_factors,
-        ps.shooter_depth,
-    );
+    let mut shooter = Shooter::new(table, settings.seed, settings.form_factors);
     let stopping = Stopping::new(ps, started);
     let adaptive = refine.uniform_depth.is_none();
     let mut fraction = run.state.unshot_fraction();
@@ -176,7 +171,14 @@ impl Run<'_> {
     /// One shot from `patch`.
     fn shoot(&mut self, shooter: &mut Shooter, patch: u32) {
         let t = Instant::now();
-        let shot = shooter.factors(&self.mesh, &self.receivers, patch);
+        let ps = &self.settings.progressive;
+        let power = self.state.unshot_power_of(patch) / self.state.emitted_power();
+        let depth = if power >= ps.fine_shot_power {
+            ps.shooter_depth
+        } else {
+            0
+        };
+        let shot = shooter.factors(&self.mesh, &self.receivers, patch, depth);
         self.stats.seconds.form_factors += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let before = self.state.unshot_power();
@@ -198,6 +200,7 @@ impl Run<'_> {
         f.reciprocity_clips += shot.clips;
         f.hidden_eye_splits += shot.hidden_splits;
         f.hidden_cells += shot.hidden_cells;
+        f.fine_shots += usize::from(depth > 0);
         f.scaled_shots += usize::from(shot.scaled);
         f.row_sums_above_one += usize::from(shot.implied_row_sum > 1.0);
         f.max_implied_row_sum = f.max_implied_row_sum.max(shot.implied_row_sum);

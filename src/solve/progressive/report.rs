@@ -43,8 +43,11 @@ pub struct ProgressiveStats {
     pub unshot_fraction: f64,
     /// The ambient term at the end (display only; not in the solution).
     pub ambient: Rgb,
-    /// Shooter cell depth below each shooting patch.
+    /// Shooter cell depth below each shooting patch, for the fine shots.
     pub shooter_depth: u8,
+    /// Shots heavy enough to use cells at `shooter_depth` (the others shot
+    /// from one cell per patch).
+    pub fine_shots: usize,
     /// Hemi-cubes rendered by shots (the refinement gathers are counted in the
     /// hemi-cube figures of the solve).
     pub shot_hemicubes: u64,

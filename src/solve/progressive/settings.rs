@@ -46,11 +46,16 @@ pub struct ProgressiveSettings {
     pub time_budget: Option<Duration>,
     /// Hand a preview to the caller every this many shots.
     pub preview_every: Option<usize>,
-    /// Each shot renders one hemi-cube per cell of the shooting patch at this
+    /// A shot renders one hemi-cube per cell of the shooting patch at this
     /// depth below it (`4^depth` hemi-cubes), each shooting the patch's unshot
     /// radiosity from its own area: smaller shooters see occluders from more
     /// places, which softens shadows and removes the bias of a single eye.
     pub shooter_depth: u8,
+    /// Only shots carrying at least this fraction of the emitted power (bands
+    /// summed) use the cells of `shooter_depth`; lighter ones shoot from one
+    /// cell per patch, since their visibility errors weigh that much less.
+    /// 0 makes every shot fine.
+    pub fine_shot_power: f64,
     /// With adaptive refinement, a refinement pass runs each time the unshot
     /// fraction has fallen by this factor since the last pass (and once more
     /// when the tolerance is met), up to `RefineSettings::max_passes` passes.
@@ -68,6 +73,7 @@ impl Default for ProgressiveSettings {
             time_budget: None,
             preview_every: None,
             shooter_depth: 1,
+            fine_shot_power: 1e-3,
             refine_factor: 0.25,
         }
     }
@@ -97,6 +103,12 @@ impl ProgressiveSettings {
                     "must be at most {MAX_SHOOTER_DEPTH}, got {}",
                     self.shooter_depth
                 ),
+            );
+        }
+        if !(self.fine_shot_power.is_finite() && (0.0..=1.0).contains(&self.fine_shot_power)) {
+            return bad(
+                "fine-shot-power",
+                format!("must lie in [0, 1], got {}", self.fine_shot_power),
             );
         }
         if !(self.refine_factor > 0.0 && self.refine_factor < 1.0) {

@@ -1,9 +1,9 @@
 //! The form factors of one shot: from every receiving leaf to the shooting
 //! patch, out of hemi-cubes at the shooter whose item buffer holds leaf ids.
 //!
-//! The shooting patch is cut into cells at [`ProgressiveSettings::shooter_depth`]
-//! below it; each cell renders its own hemi-cube (in parallel) and shoots the
-//! patch's unshot radiosity from its own area. The form factor `F_ei` from leaf
+//! The shooting patch is cut into cells some levels below it (see
+//! [`ProgressiveSettings::shooter_depth`]); each cell renders its own hemi-cube
+//! (in parallel) and shoots the patch's unshot radiosity from its own area. The form factor `F_ei` from leaf
 //! `e` to the patch is the sum over cells `s` of:
 //!
 //! - [`FormFactorMethod::Hybrid`]: `F_exact(e -> s) * v_s(e)`, Lambert's exact
@@ -89,19 +89,18 @@ pub struct Shooter {
     cubes: Vec<Hemicube>,
     seed: u64,
     method: FormFactorMethod,
-    depth: u8,
-    /// Per patch, the open shooter cells found at its last shot.
-    cells: Vec<Option<Vec<Cell>>>,
+    /// Per patch, the cell depth and the open shooter cells found at its last
+    /// shot.
+    cells: Vec<Option<(u8, Vec<Cell>)>>,
     dense: Vec<f64>,
     touched: Vec<u32>,
 }
 
 impl Shooter {
     /// A shooter rendering hemi-cubes with `table`, rotated by `seed`, turning
-    /// pixels into form factors by `method`, from cells `depth` levels below
-    /// the shooting patch.
+    /// pixels into form factors by `method`.
     #[must_use]
-    pub fn new(table: Arc<DeltaTable>, seed: u64, method: FormFactorMethod, depth: u8) -> Self {
+    pub fn new(table: Arc<DeltaTable>, seed: u64, method: FormFactorMethod) -> Self {
         let workers = rayon::current_num_threads().max(1);
         Shooter {
             cubes: (0..workers)
@@ -109,25 +108,35 @@ impl Shooter {
                 .collect(),
             seed,
             method,
-            depth,
             cells: Vec::new(),
             dense: Vec::new(),
             touched: Vec::new(),
         }
     }
 
-    /// The form factors from every leaf of `receivers` to patch `patch`.
-    /// Deterministic: the same at any thread count.
-    pub fn factors(&mut self, mesh: &Mesh, receivers: &Receivers, patch: u32) -> ShotFactors {
+    /// The form factors from every leaf of `receivers` to patch `patch`,
+    /// shooting from its cells `depth` levels below it. Deterministic: the
+    /// same at any thread count.
+    pub fn factors(
+        &mut self,
+        mesh: &Mesh,
+        receivers: &Receivers,
+        patch: u32,
+        depth: u8,
+    ) -> ShotFactors {
         let p = &mesh.patches[patch as usize];
         if self.cells.len() < mesh.patches.len() {
             self.cells.resize(mesh.patches.len(), None);
         }
         // The cells found open at the patch's last shot (shut-in cells depend
         // on the geometry only, so their splits need not be found again).
-        let cells = self.cells[patch as usize].take().unwrap_or_else(|| {
+        let cached = self.cells[patch as usize]
+            .take()
+            .filter(|(d, _)| *d == depth)
+            .map(|(_, c)| c);
+        let cells = cached.unwrap_or_else(|| {
             let mut cells = vec![mesh.elements[p.root].cell];
-            for _ in 0..self.depth {
+            for _ in 0..depth {
                 cells = cells.iter().flat_map(Cell::children).collect();
             }
             cells
@@ -141,7 +150,7 @@ impl Shooter {
             surface: p.surface,
             seed: self.seed,
             method: self.method,
-            deepest: self.depth + MAX_SHOOTER_SPLITS,
+            deepest: depth + MAX_SHOOTER_SPLITS,
         };
         let results: Vec<Vec<CellResult>> = self.cubes[..groups.len()]
             .par_iter_mut()
@@ -163,7 +172,8 @@ impl Shooter {
             })
             .collect();
         let results: Vec<CellResult> = results.into_iter().flatten().collect();
-        self.cells[patch as usize] = Some(results.iter().flat_map(|r| r.open.clone()).collect());
+        self.cells[patch as usize] =
+            Some((depth, results.iter().flat_map(|r| r.open.clone()).collect()));
 
         // Sum the cells' contributions per leaf, in a fixed order.
         if self.dense.len() < receivers.len() {

@@ -63,8 +63,8 @@ impl ShootingState {
     #[must_use]
     pub fn choose_shooter(&self) -> Option<u32> {
         let mut best: Option<(u32, f64)> = None;
-        for (p, (u, a)) in self.unshot.iter().zip(&self.areas).enumerate() {
-            let power = u.abs().0.iter().sum::<f64>() * a;
+        for p in 0..self.unshot.len() {
+            let power = self.unshot_power_of(p as u32);
             let better = match best {
                 None => true,
                 Some((_, b)) => power > b,
@@ -74,6 +74,12 @@ impl ShootingState {
             }
         }
         best.map(|(p, _)| p)
+    }
+
+    /// Unshot power of patch `p`, bands summed (magnitudes).
+    #[must_use]
+    pub fn unshot_power_of(&self, p: u32) -> f64 {
+        self.unshot[p as usize].abs().0.iter().sum::<f64>() * self.areas[p as usize]
     }
 
     /// Unshot power per band, magnitudes summed over patches.
