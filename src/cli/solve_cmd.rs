@@ -10,7 +10,7 @@ use radiosity::refine::RefineSettings;
 use radiosity::render::{self, ShadedMesh, ToneMap};
 use radiosity::scene::{Camera, Scene};
 use radiosity::solve::progressive::ProgressiveStats;
-use radiosity::solve::{ProgressiveSettings, SolverSettings};
+use radiosity::solve::{ProgressiveSettings, SolverKind, SolverSettings};
 use radiosity::{scenes, Settings};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -38,6 +38,10 @@ fn settings(a: &SolveArgs) -> Result<Settings> {
         }
         t => t.map(std::time::Duration::from_secs_f64),
     };
+    let solver_kind: SolverKind = a.solver.parse().map_err(anyhow::Error::msg)?;
+    if a.preview_every.is_some() && solver_kind != SolverKind::Progressive {
+        bail!("--preview-every needs --solver progressive (Gauss-Seidel has no previews)");
+    }
     Ok(Settings {
         hemicube_resolution: a.hemicube_res,
         patch_size: a.patch_size,
@@ -47,7 +51,7 @@ fn settings(a: &SolveArgs) -> Result<Settings> {
             max_iterations: a.max_iterations,
             relaxation: a.relaxation,
         },
-        solver_kind: a.solver.parse().map_err(anyhow::Error::msg)?,
+        solver_kind,
         progressive: ProgressiveSettings {
             tolerance: a.unshot_tolerance,
             max_shots: a.max_shots,
