@@ -135,6 +135,28 @@ pub struct SolveSettingsArgs {
     /// reflectances are close to 1).
     #[arg(long, default_value_t = 1.0)]
     pub relaxation: f64,
+    /// Solver: gauss-seidel (gathering) or progressive (shooting, with
+    /// previews).
+    #[arg(long, default_value = "gauss-seidel")]
+    pub solver: String,
+    /// Progressive: stop when the unshot power is below this fraction of the
+    /// emitted power.
+    #[arg(long = "unshot-tolerance", default_value_t = 1e-4)]
+    pub unshot_tolerance: f64,
+    /// Progressive: stop after this many shots.
+    #[arg(long = "max-shots")]
+    pub max_shots: Option<usize>,
+    /// Progressive: stop after this many seconds of solving.
+    #[arg(long = "time-budget")]
+    pub time_budget: Option<f64>,
+    /// Progressive: each shot renders 4^N hemi-cubes from cells N levels below
+    /// the shooting patch.
+    #[arg(long = "shooter-depth", default_value_t = 1)]
+    pub shooter_depth: u8,
+    /// Progressive: write NAME_preview_SHOTS.png (with the ambient term) every
+    /// N shots.
+    #[arg(long = "preview-every")]
+    pub preview_every: Option<usize>,
     /// Split elements whose radiosity differs from a neighbour's by more than
     /// this fraction of the brightest reflected radiosity.
     #[arg(long = "refine-tolerance", default_value_t = 0.05)]

@@ -53,7 +53,7 @@ pub fn run(a: &BakeArgs) -> Result<()> {
             eprintln!("warning: {w}");
         }
         let bars = Bars::new(a.quiet);
-        let solution = radiosity::solve(&scene, &settings(&a.settings), &|p| bars.update(p))
+        let solution = radiosity::solve(&scene, &settings(&a.settings)?, &|p| bars.update(p))
             .with_context(|| format!("solving '{}'", scene.name))?;
         bars.finish();
         let solved = started.elapsed().as_secs_f64();

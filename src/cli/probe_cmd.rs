@@ -45,7 +45,7 @@ fn run_in_pool(a: &ProbeArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let bars = Bars::new(a.quiet);
-    let solution = radiosity::solve(&scene, &settings(&a.settings), &|p| bars.update(p))
+    let solution = radiosity::solve(&scene, &settings(&a.settings)?, &|p| bars.update(p))
         .with_context(|| format!("solving '{}'", scene.name))?;
     bars.finish();
 

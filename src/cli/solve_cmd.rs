@@ -5,11 +5,12 @@ use super::progress_bar::Bars;
 use super::views::{choose_views, write_views, Overlay};
 use anyhow::{bail, Context, Result};
 use radiosity::gltf_io::{self, ImportLimits};
-use radiosity::pipeline::{ObjectRadiosity, SolveStats};
+use radiosity::pipeline::{ObjectRadiosity, Preview, SolveStats};
 use radiosity::refine::RefineSettings;
-use radiosity::render::ShadedMesh;
-use radiosity::scene::Scene;
-use radiosity::solve::SolverSettings;
+use radiosity::render::{self, ShadedMesh, ToneMap};
+use radiosity::scene::{Camera, Scene};
+use radiosity::solve::progressive::ProgressiveStats;
+use radiosity::solve::{ProgressiveSettings, SolverKind, SolverSettings};
 use radiosity::{scenes, Settings};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -31,8 +32,18 @@ pub fn load(scene: &str) -> Result<Scene> {
 }
 
 /// The library settings the solve flags ask for.
-pub fn settings(a: &SolveSettingsArgs) -> Settings {
-    Settings {
+pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
+    let time_budget = match a.time_budget {
+        Some(t) if !(t.is_finite() && t >= 0.0) => {
+            bail!("--time-budget must be a number of seconds >= 0, got {t}")
+        }
+        t => t.map(std::time::Duration::from_secs_f64),
+    };
+    let solver_kind: SolverKind = a.solver.parse().map_err(anyhow::Error::msg)?;
+    if a.preview_every.is_some() && solver_kind != SolverKind::Progressive {
+        bail!("--preview-every needs --solver progressive (Gauss-Seidel has no previews)");
+    }
+    Ok(Settings {
         hemicube_resolution: a.hemicube_res,
         form_factors: a.form_factors,
         emitter_rays: a.emitter_rays == "on",
@@ -42,6 +53,15 @@ pub fn settings(a: &SolveSettingsArgs) -> Settings {
             tolerance: a.tolerance,
             max_iterations: a.max_iterations,
             relaxation: a.relaxation,
+        },
+        solver_kind,
+        progressive: ProgressiveSettings {
+            tolerance: a.unshot_tolerance,
+            max_shots: a.max_shots,
+            time_budget,
+            preview_every: a.preview_every,
+            shooter_depth: a.shooter_depth,
+            ..ProgressiveSettings::default()
         },
         refine: RefineSettings {
             uniform_depth: a.uniform_depth,
@@ -55,7 +75,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Settings {
             ..RefineSettings::default()
         },
         ..Settings::default()
-    }
+    })
 }
 
 #[derive(Serialize)]
@@ -86,6 +106,8 @@ struct Report<'a> {
     hemicube: &'a radiosity::pipeline::HemicubeFigures,
     source_passes: &'a [radiosity::pipeline::SourcePassStats],
     passes: &'a [radiosity::pipeline::PassStats],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    progressive: Option<&'a ProgressiveStats>,
     final_max_difference: f64,
     patch_size: f64,
     threads: usize,
@@ -135,14 +157,35 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         eprintln!("warning: {w}");
     }
 
-    let bars = Bars::new(a.quiet);
-    let solution = radiosity::solve(&scene, &settings(&a.settings), &|p| bars.update(p))
-        .with_context(|| format!("solving '{}'", scene.name))?;
-    bars.finish();
-
-    let t = Instant::now();
     let (lo, hi) = scene.bounds();
     let views = choose_views(&plan, &scene.cameras, lo, hi);
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("creating the output folder {}", a.out.display()))?;
+
+    let bars = Bars::new(a.quiet);
+    let mut previews = PreviewWriter {
+        args: a,
+        scene: &scene.name,
+        camera: &views[0],
+        tone: plan.tone,
+        exposure: a.view.exposure,
+        written: Vec::new(),
+        error: None,
+    };
+    let solution = radiosity::pipeline::solve_with_previews(
+        &scene,
+        &settings(&a.settings)?,
+        &|p| bars.update(p),
+        &mut |p| previews.write(p),
+    )
+    .with_context(|| format!("solving '{}'", scene.name))?;
+    bars.finish();
+    if let Some(e) = previews.error {
+        return Err(e);
+    }
+    let mut written = std::mem::take(&mut previews.written);
+
+    let t = Instant::now();
     let mesh = radiance_mesh(&solution);
     let segments = if a.mesh_out.is_some() {
         solution.mesh.leaf_edges()
@@ -154,6 +197,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         segments: &segments,
     });
     let mut outputs = write_views(&mesh, &views, &a.view, &plan, &a.out, &scene.name, overlay)?;
+    outputs.append(&mut written);
     let render_seconds = t.elapsed().as_secs_f64();
 
     let s: &SolveStats = &solution.stats;
@@ -186,6 +230,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         hemicube: &s.hemicube,
         source_passes: &s.source_passes,
         passes: &s.passes,
+        progressive: s.progressive.as_ref(),
         final_max_difference: s.final_max_difference,
         patch_size: s.patch_size,
         threads,
@@ -222,6 +267,59 @@ pub fn radiance_mesh(solution: &radiosity::Solution) -> ShadedMesh {
             .map(|b| *b / std::f64::consts::PI)
             .collect(),
         triangles: shading.triangles,
+    }
+}
+
+/// Writes the previews of a progressive solve: the first view, with the
+/// ambient term, at one exposure for all (the first preview's unless
+/// `--exposure` is given) so that they show the image filling in.
+struct PreviewWriter<'a> {
+    args: &'a SolveArgs,
+    scene: &'a str,
+    camera: &'a Camera,
+    tone: ToneMap,
+    exposure: Option<f64>,
+    written: Vec<String>,
+    error: Option<anyhow::Error>,
+}
+
+impl PreviewWriter<'_> {
+    fn write(&mut self, p: &Preview<'_>) {
+        if self.error.is_none() {
+            if let Err(e) = self.try_write(p) {
+                self.error = Some(e);
+            }
+        }
+    }
+
+    fn try_write(&mut self, p: &Preview<'_>) -> Result<()> {
+        let shading = p.shading_mesh(true);
+        let mesh = ShadedMesh {
+            positions: shading.positions,
+            values: shading
+                .radiosity
+                .iter()
+                .map(|b| *b / std::f64::consts::PI)
+                .collect(),
+            triangles: shading.triangles,
+        };
+        let (image, _) = render::render_with_depth(
+            &mesh,
+            self.camera,
+            self.args.view.width,
+            self.args.view.height,
+            2,
+        )?;
+        let stops = *self
+            .exposure
+            .get_or_insert_with(|| render::auto_exposure(&image, self.tone));
+        let png = self
+            .args
+            .out
+            .join(format!("{}_preview_{:04}.png", self.scene, p.shots));
+        render::write_png(&image, &png, stops, self.tone)?;
+        self.written.push(png.display().to_string());
+        Ok(())
     }
 }
 

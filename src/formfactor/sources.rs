@@ -1,6 +1,6 @@
-//! The polygons a hemi-cube rasterizes: one per patch.
+//! The polygons a hemi-cube rasterizes: one per patch, or one per element.
 
-use crate::mesh::Mesh;
+use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 
 /// A patch polygon as the hemi-cube sees it.
@@ -62,5 +62,50 @@ impl Sources {
             .filter(|&p| mesh.patch_emission(p).max_band() > 0.0)
             .collect();
         Sources { polygons, emitters }
+    }
+}
+
+impl SourcePolygon {
+    /// The source polygon of a convex world polygon (3 or 4 vertices) with its
+    /// surface's unit normal.
+    #[must_use]
+    pub fn new(polygon: &[DVec3], normal: DVec3, surface: u32) -> Self {
+        let mut vertices = [DVec3::ZERO; 4];
+        for (slot, v) in vertices.iter_mut().zip(polygon) {
+            *slot = *v;
+        }
+        let centre = polygon.iter().copied().sum::<DVec3>() / polygon.len() as f64;
+        let radius = polygon
+            .iter()
+            .map(|v| (*v - centre).length())
+            .fold(0.0, f64::max);
+        SourcePolygon {
+            vertices,
+            count: polygon.len() as u8,
+            normal,
+            surface,
+            centre,
+            radius,
+        }
+    }
+}
+
+impl Sources {
+    /// The polygons of the given elements, with ids their positions in `keys`
+    /// (an item buffer of element ids, as a shooting patch needs).
+    #[must_use]
+    pub fn from_elements(mesh: &Mesh, keys: &[ElementKey]) -> Self {
+        let polygons = keys
+            .iter()
+            .map(|&k| {
+                let e = &mesh.elements[k];
+                let lattice = &mesh.surfaces[e.surface as usize];
+                SourcePolygon::new(&lattice.polygon(&e.cell), lattice.normal, e.surface)
+            })
+            .collect();
+        Sources {
+            polygons,
+            emitters: Vec::new(),
+        }
     }
 }

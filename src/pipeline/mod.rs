@@ -3,6 +3,7 @@
 mod coplanar;
 mod probe;
 mod progress;
+mod progressive;
 mod settings;
 mod solution;
 mod stats;
@@ -10,6 +11,7 @@ mod stats;
 pub use coplanar::COPLANAR_GAP;
 pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
 pub use progress::{Progress, Stage};
+pub use progressive::{solve_with_previews, Preview};
 pub use settings::Settings;
 pub use solution::{ObjectRadiosity, Solution};
 pub use stats::{
@@ -23,16 +25,21 @@ use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, mark_sources};
 use crate::scene::Scene;
-use crate::solve::{gather, gauss_seidel, GatherTotals, PatchSystem, SolveReport};
+use crate::solve::{gather, gauss_seidel, GatherTotals, PatchSystem, SolveReport, SolverKind};
 use std::sync::Arc;
 use std::time::Instant;
 
 /// Solves `scene` with `settings`, reporting progress through `progress`.
+/// `settings.solver_kind` chooses gathering (Gauss-Seidel) or shooting
+/// (progressive refinement; see [`solve_with_previews`] for its previews).
 pub fn solve(
     scene: &Scene,
     settings: &Settings,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<Solution> {
+    if settings.solver_kind == SolverKind::Progressive {
+        return progressive::solve_progressive(scene, settings, progress, None);
+    }
     settings.validate()?;
     if scene.surfaces.is_empty() {
         return Err(Error::Geometry(format!(

@@ -1,7 +1,7 @@
 //! Progress reports: the library never prints; it calls back.
 
 /// A stage of the solve.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Stage {
     /// Hemi-cube rows for new elements; `pass` 0 is the initial mesh.
     FormFactors {
@@ -10,10 +10,18 @@ pub enum Stage {
     },
     /// Coarse solve and gather.
     Solve,
+    /// Progressive shooting; `done / total` is the progress of the unshot
+    /// fraction from 1 to the tolerance on a log scale.
+    Shoot {
+        /// Shots so far.
+        shots: usize,
+        /// Unshot power over emitted power.
+        unshot_fraction: f64,
+    },
 }
 
 /// How far a stage has come.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Progress {
     /// The stage.
     pub stage: Stage,

@@ -4,7 +4,7 @@ use crate::error::{Error, Result};
 use crate::formfactor::FormFactorMethod;
 use crate::refine::RefineSettings;
 use crate::scene::Scene;
-use crate::solve::SolverSettings;
+use crate::solve::{ProgressiveSettings, SolverKind, SolverSettings};
 
 /// Everything a solve can be told.
 #[derive(Clone, Debug)]
@@ -22,6 +22,10 @@ pub struct Settings {
     pub emitter_rays: bool,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
+    /// Gathering (Gauss-Seidel) or shooting (progressive refinement).
+    pub solver_kind: SolverKind,
+    /// Stopping rules and previews of the progressive solver.
+    pub progressive: ProgressiveSettings,
     /// Refinement.
     pub refine: RefineSettings,
     /// Most patches the mesh may hold.
@@ -37,6 +41,8 @@ impl Default for Settings {
             form_factors: FormFactorMethod::default(),
             emitter_rays: true,
             solver: SolverSettings::default(),
+            solver_kind: SolverKind::default(),
+            progressive: ProgressiveSettings::default(),
             refine: RefineSettings::default(),
             max_patches: 50_000,
         }
@@ -79,6 +85,7 @@ impl Settings {
                 format!("must lie in (0, 2), got {}", s.relaxation),
             );
         }
+        self.progressive.validate()?;
         self.refine.validate()
     }
 }

@@ -114,6 +114,10 @@ pub struct SolveStats {
     pub passes: Vec<PassStats>,
     /// Largest remaining neighbour difference (relative), at the last check.
     pub final_max_difference: f64,
+    /// Shots, unshot power and the other figures of a progressive solve
+    /// (`None` for Gauss-Seidel).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub progressive: Option<crate::solve::progressive::ProgressiveStats>,
 }
 
 impl SolveStats {

@@ -3,14 +3,17 @@
 //! The patch system `B_i = E_i + rho_i sum_j F_ij B_j` is solved by Gauss-Seidel
 //! for the three bands at once; its rows are the area-weighted sums of the
 //! element rows. Element radiosities then come from one gather,
-//! `B_e = E_e + rho_e sum_j F_ej B_j`.
+//! `B_e = E_e + rho_e sum_j F_ej B_j`. [`progressive`] solves the same system
+//! by shooting instead.
 
 mod gather;
 mod gauss_seidel;
+pub mod progressive;
 mod system;
 
 pub use gather::{gather, GatherTotals};
 pub use gauss_seidel::{
     gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS, STALL_SWEEPS,
 };
+pub use progressive::{ProgressiveSettings, SolverKind};
 pub use system::PatchSystem;

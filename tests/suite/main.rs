@@ -14,6 +14,7 @@ mod penumbra_failure;
 mod penumbra_golden;
 mod penumbra_metrics;
 mod probe;
+mod progressive;
 mod random_scenes;
 mod scale;
 mod stability;

@@ -6,5 +6,5 @@ mod faces;
 mod raster;
 mod table;
 
-pub use raster::{Hemicube, HemicubeStats};
+pub use raster::{Coverage, Hemicube, HemicubeStats, ItemCoverage};
 pub use table::DeltaTable;

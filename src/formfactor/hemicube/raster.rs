@@ -23,8 +23,33 @@ pub struct HemicubeStats {
     pub pixels_tested: u64,
 }
 
-/// A reusable hemi-cube: item and depth buffers for the five faces, and a dense
-/// accumulator over patches. One per thread; no allocation per hemi-cube.
+/// What a hemi-cube saw of one source polygon (see [`Hemicube::coverage`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coverage {
+    /// The polygon's index in its [`Sources`].
+    pub id: u32,
+    /// Delta form factors of the pixels it won the depth test for: its
+    /// classic hemi-cube form factor.
+    pub won: f64,
+    /// Delta form factors of every pixel its front face covered, won or not.
+    pub covered: f64,
+    /// Number of pixels its front face covered.
+    pub pixels: u32,
+}
+
+/// What a hemi-cube saw from one eye (see [`Hemicube::coverage`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ItemCoverage {
+    /// Every source polygon whose front face covered a pixel, by increasing id.
+    pub polygons: Vec<Coverage>,
+    /// The form factor of the back faces won (0 to 1): near 1 when the eye is
+    /// shut inside a closed object, such as a point of the floor under a box.
+    pub back_faces: f64,
+}
+
+/// A reusable hemi-cube: item and depth buffers for the five faces, and dense
+/// accumulators over source polygons (grown on demand). One per thread; no
+/// allocation per hemi-cube.
 #[derive(Clone, Debug)]
 pub struct Hemicube {
     table: Arc<DeltaTable>,
@@ -34,6 +59,8 @@ pub struct Hemicube {
     touched: Vec<u32>,
     /// Delta form factors of every pixel a front face covered, won or not.
     covered: Vec<f64>,
+    /// Pixel counts of the same coverage.
+    covered_pixels: Vec<u32>,
     covered_touched: Vec<u32>,
     /// Front faces that covered no pixel centre (hybrid method only): patch id
     /// and its vertex mean in local and in world coordinates.
@@ -60,6 +87,7 @@ impl Hemicube {
             accumulator: vec![0.0; patches],
             touched: Vec::new(),
             covered: vec![0.0; patches],
+            covered_pixels: vec![0; patches],
             covered_touched: Vec::new(),
             subpixel: Vec::new(),
             span_left: vec![f64::INFINITY; n],
@@ -86,7 +114,77 @@ impl Hemicube {
         method: FormFactorMethod,
         emitter_rays: Option<(&Occluders, u64)>,
     ) -> Row {
+        let hybrid = method == FormFactorMethod::Hybrid;
+        self.render(sources, eye, normal, angle, own_surface, hybrid);
+        let mut row = self.accumulate();
+        if hybrid {
+            row = self.hybrid(row, sources, eye, normal, own_surface, emitter_rays);
+        }
+        for id in self.covered_touched.drain(..) {
+            self.covered[id as usize] = 0.0;
+            self.covered_pixels[id as usize] = 0;
+        }
+        row
+    }
+
+    /// Renders the item buffer like [`Hemicube::row`] and reports, for every
+    /// polygon of `sources` whose front face covers at least one pixel centre,
+    /// what it won and what it covered, in increasing id order, and how much of
+    /// the view back faces fill. The sources may be any polygons with any ids
+    /// (patches, or leaf elements for a shooting patch's item buffer); what to
+    /// make of the pixels is the caller's choice.
+    pub fn coverage(
+        &mut self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+    ) -> ItemCoverage {
+        self.render(sources, eye, normal, angle, own_surface, false);
+        let back_faces = self.sum_won();
+        self.covered_touched.sort_unstable();
+        let polygons = self
+            .covered_touched
+            .iter()
+            .map(|&id| {
+                let i = id as usize;
+                Coverage {
+                    id,
+                    won: std::mem::take(&mut self.accumulator[i]),
+                    covered: std::mem::take(&mut self.covered[i]),
+                    pixels: std::mem::take(&mut self.covered_pixels[i]),
+                }
+            })
+            .collect();
+        for id in self.touched.drain(..) {
+            self.accumulator[id as usize] = 0.0;
+        }
+        self.covered_touched.clear();
+        ItemCoverage {
+            polygons,
+            back_faces,
+        }
+    }
+
+    /// Fills the item and depth buffers with the front faces of `sources` seen
+    /// from `eye` (and the back faces that hide them), and the coverage sums.
+    fn render(
+        &mut self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+        list_subpixel: bool,
+    ) {
         self.clear();
+        let n = sources.polygons.len();
+        if self.accumulator.len() < n {
+            self.accumulator.resize(n, 0.0);
+            self.covered.resize(n, 0.0);
+            self.covered_pixels.resize(n, 0);
+        }
         let t0 = normal.any_orthonormal_vector();
         let b0 = normal.cross(t0);
         let (s, c) = angle.sin_cos();
@@ -128,20 +226,12 @@ impl Hemicube {
             for (fi, face) in Face::ALL.iter().enumerate() {
                 self.rasterize(*face, fi, &local[..count], face.map(m), h, near, item);
             }
-            if method == FormFactorMethod::Hybrid && item != BACK_FACE && self.covered[id] == 0.0 {
+            if list_subpixel && item != BACK_FACE && self.covered[id] == 0.0 {
                 let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
                 self.subpixel
                     .push((item, mean(&local[..count]), mean(&poly.vertices[..count])));
             }
         }
-        let mut row = self.accumulate();
-        if method == FormFactorMethod::Hybrid {
-            row = self.hybrid(row, sources, eye, normal, own_surface, emitter_rays);
-        }
-        for id in self.covered_touched.drain(..) {
-            self.covered[id as usize] = 0.0;
-        }
-        row
     }
 
     /// Replaces each won pixel sum by the exact unoccluded form factor times the
@@ -440,22 +530,13 @@ impl Hemicube {
                 self.covered_touched.push(item);
             }
             *slot += covered;
+            self.covered_pixels[item as usize] += tested as u32;
         }
     }
 
     /// Sums delta form factors per patch and returns the sparse row.
     fn accumulate(&mut self) -> Row {
-        let table = Arc::clone(&self.table);
-        for f in 0..5 {
-            let weights = if f == 0 { &table.top } else { &table.side };
-            // Sum runs of equal ids in a register and flush at each change: the
-            // item buffer is made of spans, and adding pixel by pixel into the
-            // accumulator would chain every add through memory.
-            let (acc, touched) = (&mut self.accumulator, &mut self.touched);
-            for (&id, &w) in self.items[f].iter().zip(weights.iter()) {
-                flush(acc, touched, id, w);
-            }
-        }
+        self.sum_won();
         self.touched.sort_unstable();
         let entries = self
             .touched
@@ -468,17 +549,28 @@ impl Hemicube {
         self.touched.clear();
         Row::from_sorted(entries)
     }
-}
 
-/// Adds a run of delta form factors won by `id` to its accumulator slot.
-#[inline]
-fn flush(accumulator: &mut [f64], touched: &mut Vec<u32>, id: u32, run: f64) {
-    if id < BACK_FACE {
-        let slot = &mut accumulator[id as usize];
-        if *slot == 0.0 {
-            touched.push(id);
+    /// Adds the delta form factor of every won pixel to its polygon's slot of
+    /// the accumulator, listing the slots touched. Returns the delta form
+    /// factors of the pixels won by back faces.
+    fn sum_won(&mut self) -> f64 {
+        let table = Arc::clone(&self.table);
+        let mut back = 0.0;
+        for f in 0..5 {
+            let weights = if f == 0 { &table.top } else { &table.side };
+            for (px, &id) in self.items[f].iter().enumerate() {
+                if id < BACK_FACE {
+                    let slot = &mut self.accumulator[id as usize];
+                    if *slot == 0.0 {
+                        self.touched.push(id);
+                    }
+                    *slot += weights[px];
+                } else if id == BACK_FACE {
+                    back += weights[px];
+                }
+            }
         }
-        *slot += run;
+        back
     }
 }
 

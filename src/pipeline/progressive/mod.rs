@@ -1,0 +1,409 @@
+//! The progressive solve over a scene: the same mesh as the Gauss-Seidel path,
+//! then shots until a stopping rule is met, with refinement passes between
+//! shots and previews handed to the caller.
+
+mod preview;
+
+pub use preview::Preview;
+
+use super::{PassStats, Progress, Settings, Solution, SolveStats, Stage};
+use crate::error::{Error, Result};
+use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
+use crate::formfactor::{compute_rows, RowSettings, Sources};
+use crate::math::Rgb;
+use crate::mesh::{ElementKey, Mesh};
+use crate::refine::{mark_for_split, RefineSettings};
+use crate::scene::Scene;
+use crate::solve::progressive::{
+    adopt, ambient_term, HistoryPoint, ProgressiveStats, Receivers, Shooter, ShootingPass,
+    ShootingState, StopReason, Stopping,
+};
+use crate::solve::{GatherTotals, PatchSystem, SolveReport, SolverKind};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Solves `scene` like [`super::solve`], and with the progressive solver also
+/// hands a [`Preview`] to `preview` every `settings.progressive.preview_every`
+/// shots. (Gauss-Seidel has no previews.)
+pub fn solve_with_previews(
+    scene: &Scene,
+    settings: &Settings,
+    progress: &(dyn Fn(Progress) + Sync),
+    preview: &mut dyn FnMut(&Preview<'_>),
+) -> Result<Solution> {
+    match settings.solver_kind {
+        SolverKind::GaussSeidel => super::solve(scene, settings, progress),
+        SolverKind::Progressive => solve_progressive(scene, settings, progress, Some(preview)),
+    }
+}
+
+/// Everything the shooting loop works on.
+struct Run<'a> {
+    settings: &'a Settings,
+    progress: &'a (dyn Fn(Progress) + Sync),
+    started: Instant,
+    mesh: Mesh,
+    state: ShootingState,
+    receivers: Receivers,
+    patch_sources: Sources,
+    row_settings: RowSettings,
+    min_area: f64,
+    stats: SolveStats,
+    figures: ProgressiveStats,
+    hemicube: HemicubeStats,
+    shots: usize,
+    row_sum_total: f64,
+}
+
+/// The progressive solve (see the module docs).
+pub(crate) fn solve_progressive(
+    scene: &Scene,
+    settings: &Settings,
+    progress: &(dyn Fn(Progress) + Sync),
+    mut preview: Option<&mut dyn FnMut(&Preview<'_>)>,
+) -> Result<Solution> {
+    settings.validate()?;
+    if scene.surfaces.is_empty() {
+        return Err(Error::Geometry(format!(
+            "scene '{}' has no surfaces",
+            scene.name
+        )));
+    }
+    let started = Instant::now();
+    let ps = &settings.progressive;
+    let refine = &settings.refine;
+
+    let t = Instant::now();
+    let mut mesh = Mesh::new(scene, settings.patch_size_for(scene), settings.max_patches)?;
+    split_uniformly(
+        &mut mesh,
+        refine.uniform_depth.unwrap_or(refine.initial_depth),
+        refine.max_elements,
+    )?;
+    let table = Arc::new(DeltaTable::new(settings.hemicube_resolution));
+    let mut run = Run {
+        settings,
+        progress,
+        started,
+        state: ShootingState::new(&mesh),
+        receivers: Receivers::new(&mesh),
+        patch_sources: Sources::from_mesh(&mesh),
+        row_settings: RowSettings {
+            table: Arc::clone(&table),
+            seed: settings.seed,
+            method: settings.form_factors,
+            emitter_rays: settings.emitter_rays,
+        },
+        min_area: refine
+            .min_element_area
+            .unwrap_or_else(|| (scene.diameter() * 1e-3).powi(2)),
+        mesh,
+        stats: SolveStats::default(),
+        figures: ProgressiveStats {
+            shooter_depth: ps.shooter_depth,
+            ..ProgressiveStats::default()
+        },
+        hemicube: HemicubeStats::default(),
+        shots: 0,
+        row_sum_total: 0.0,
+    };
+    run.stats.seconds.mesh = t.elapsed().as_secs_f64();
+    let mut shooter = Shooter::new(table, settings.seed, settings.form_factors);
+    let stopping = Stopping::new(ps, started);
+    let adaptive = refine.uniform_depth.is_none();
+    let mut fraction = run.state.unshot_fraction();
+    let mut last_pass_fraction = fraction;
+    let mut next_history = fraction;
+
+    let stop = loop {
+        if let Some(reason) = stopping.check(run.shots, fraction) {
+            // Converged on the current mesh: refine once more if allowed, and
+            // shoot on if that changed anything.
+            let more = reason == StopReason::Converged
+                && adaptive
+                && run.state.emitted_power() > 0.0
+                && run.figures.passes.len() < refine.max_passes
+                && run.refine_pass(fraction);
+            if !more {
+                break reason;
+            }
+            fraction = run.state.unshot_fraction();
+            last_pass_fraction = fraction;
+            continue;
+        }
+        if adaptive
+            && run.figures.passes.len() < refine.max_passes
+            && fraction <= ps.refine_factor * last_pass_fraction
+        {
+            run.refine_pass(fraction);
+            fraction = run.state.unshot_fraction();
+            last_pass_fraction = fraction;
+            continue;
+        }
+        let Some(shooter_patch) = run.state.choose_shooter() else {
+            break StopReason::Converged;
+        };
+        run.shoot(&mut shooter, shooter_patch);
+        fraction = run.state.unshot_fraction();
+        run.report_shot(fraction);
+        if run.shots == 1 || fraction <= next_history {
+            run.record_history(fraction);
+            next_history = fraction * 10f64.powf(-0.25);
+        }
+        if let (Some(every), Some(callback)) = (ps.preview_every, preview.as_mut()) {
+            if run.shots.is_multiple_of(every) {
+                callback(&Preview {
+                    shots: run.shots,
+                    unshot_fraction: fraction,
+                    ambient: ambient_term(&run.mesh, &run.state.unshot),
+                    seconds: run.started.elapsed().as_secs_f64(),
+                    mesh: &run.mesh,
+                });
+            }
+        }
+    };
+    if run.figures.history.last().map(|h| h.shots) != Some(run.shots) {
+        run.record_history(fraction);
+    }
+    Ok(run.finish(scene, stop, fraction))
+}
+
+impl Run<'_> {
+    /// One shot from `patch`.
+    fn shoot(&mut self, shooter: &mut Shooter, patch: u32) {
+        let t = Instant::now();
+        let ps = &self.settings.progressive;
+        let power = self.state.unshot_power_of(patch) / self.state.emitted_power();
+        let depth = if power >= ps.fine_shot_power {
+            ps.shooter_depth
+        } else {
+            0
+        };
+        let shot = shooter.factors(&self.mesh, &self.receivers, patch, depth);
+        self.state.open_scale[patch as usize] = shot.open_scale;
+        self.stats.seconds.form_factors += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let before = self.state.unshot_power();
+        let unshot = self.state.take_unshot(patch);
+        for &(leaf, f) in &shot.factors {
+            let key = self.receivers.leaves[leaf as usize];
+            self.state.receive(&mut self.mesh, key, unshot * f);
+        }
+        let after = self.state.unshot_power();
+        if (0..3).any(|b| after[b] > before[b] * (1.0 + 1e-12)) {
+            self.figures.unshot_increases += 1;
+        }
+        self.stats.seconds.solve += t.elapsed().as_secs_f64();
+
+        self.shots += 1;
+        let f = &mut self.figures;
+        f.shot_hemicubes += shot.hemicubes;
+        f.shooter_splits += shot.splits;
+        f.reciprocity_clips += shot.clips;
+        f.hidden_eye_splits += shot.hidden_splits;
+        f.hidden_cells += shot.hidden_cells;
+        f.fine_shots += usize::from(depth > 0);
+        f.scaled_shots += usize::from(shot.scaled);
+        f.row_sums_above_one += usize::from(shot.implied_row_sum > 1.0);
+        f.max_implied_row_sum = f.max_implied_row_sum.max(shot.implied_row_sum);
+        self.row_sum_total += shot.implied_row_sum;
+        self.hemicube.hemicubes += shot.hemicubes;
+        self.hemicube.polygons_rasterized += shot.polygons_rasterized;
+        self.hemicube.pixels_tested += shot.pixels_tested;
+    }
+
+    fn report_shot(&self, fraction: f64) {
+        // Progress from 1 down to the tolerance, on a log scale, in thousandths.
+        let tolerance = self.settings.progressive.tolerance;
+        let done = if fraction <= 0.0 {
+            1.0
+        } else {
+            (fraction.ln() / tolerance.ln()).clamp(0.0, 1.0)
+        };
+        (self.progress)(Progress {
+            stage: Stage::Shoot {
+                shots: self.shots,
+                unshot_fraction: fraction,
+            },
+            done: (done * 1000.0).round() as usize,
+            total: 1000,
+        });
+    }
+
+    fn record_history(&mut self, fraction: f64) {
+        self.figures.history.push(HistoryPoint {
+            shots: self.shots,
+            seconds: self.started.elapsed().as_secs_f64(),
+            unshot_fraction: fraction,
+        });
+    }
+
+    /// One refinement pass between shots: split where neighbours differ, then
+    /// let the new leaves gather what has been shot. Returns false when
+    /// nothing was split.
+    fn refine_pass(&mut self, fraction: f64) -> bool {
+        let t_pass = Instant::now();
+        let refine: &RefineSettings = &self.settings.refine;
+        let room = refine.max_elements.saturating_sub(self.receivers.len());
+        let marks = mark_for_split(
+            &self.mesh,
+            refine.tolerance,
+            refine.max_depth,
+            self.min_area,
+            room,
+        );
+        self.stats.final_max_difference = marks.max_difference;
+        if marks.split.is_empty() {
+            return false;
+        }
+        let pass = self.figures.passes.len() + 1;
+        let mut fresh: Vec<ElementKey> = Vec::new();
+        for &k in &marks.split {
+            fresh.extend(self.mesh.split(k));
+        }
+        for k in self.mesh.balance(fresh.clone()) {
+            fresh.extend(self.mesh.elements[k].children.iter().copied());
+        }
+        fresh.retain(|k| self.mesh.elements[*k].is_leaf());
+
+        let t = Instant::now();
+        let total = fresh.len();
+        let progress = self.progress;
+        let report = |done| {
+            progress(Progress {
+                stage: Stage::FormFactors { pass },
+                done,
+                total,
+            });
+        };
+        report(0);
+        let (rows, s) = compute_rows(
+            &self.mesh,
+            &self.patch_sources,
+            &fresh,
+            &self.row_settings,
+            &report,
+        );
+        self.stats.seconds.form_factors += t.elapsed().as_secs_f64();
+        self.hemicube.hemicubes += s.hemicubes;
+        self.hemicube.polygons_rasterized += s.polygons_rasterized;
+        self.hemicube.pixels_tested += s.pixels_tested;
+
+        let change = adopt(&mut self.mesh, &mut self.state, &fresh, &rows);
+        self.receivers = Receivers::new(&self.mesh);
+        let emitted = self.state.emitted_power();
+        self.figures.passes.push(ShootingPass {
+            pass,
+            after_shots: self.shots,
+            unshot_fraction: fraction,
+            unshot_change: change.0.iter().sum::<f64>() / emitted,
+        });
+        self.stats.passes.push(PassStats {
+            pass,
+            split: marks.split.len(),
+            elements: self.receivers.len(),
+            new_hemicubes: fresh.len(),
+            seconds: t_pass.elapsed().as_secs_f64(),
+            max_neighbour_difference: marks.max_difference,
+            blocked: marks.blocked,
+        });
+        true
+    }
+
+    /// The solution: patch radiosities as leaf means, interior nodes filled
+    /// in, the figures.
+    fn finish(mut self, scene: &Scene, stop: StopReason, fraction: f64) -> Solution {
+        let mesh = &mut self.mesh;
+        let mut patch_radiosity = Vec::with_capacity(mesh.patches.len());
+        for p in 0..mesh.patches.len() {
+            let root = mesh.patches[p].root;
+            let b = push_up(mesh, root);
+            mesh.patches[p].radiosity = b;
+            patch_radiosity.push(b);
+        }
+        let mut emitted = Rgb::ZERO;
+        for k in mesh.leaves() {
+            let e = &mesh.elements[k];
+            emitted += mesh.surfaces[e.surface as usize].emission * e.area;
+        }
+        let totals = GatherTotals {
+            emitted,
+            absorbed: self.state.absorbed_power(mesh),
+        };
+        // Progressive keeps no form factors: the system holds reflectance and
+        // emission with empty rows.
+        let system = PatchSystem::from_mesh(mesh);
+        let report = SolveReport {
+            iterations: self.shots,
+            residual: self.state.residual(),
+            error_bound: 0.0,
+            contraction: 0.0,
+            extrapolations: 0,
+        };
+        let mut stats = std::mem::take(&mut self.stats);
+        stats.finish(
+            mesh,
+            &system,
+            scene,
+            self.settings,
+            report,
+            self.shots,
+            totals,
+            self.hemicube,
+        );
+        let f = &mut self.figures;
+        f.shots = self.shots;
+        f.stop = stop;
+        f.unshot_fraction = fraction;
+        f.ambient = ambient_term(mesh, &self.state.unshot);
+        f.mean_implied_row_sum = if self.shots > 0 {
+            self.row_sum_total / self.shots as f64
+        } else {
+            0.0
+        };
+        stats.hemicube.mean_row_sum = f.mean_implied_row_sum;
+        stats.hemicube.max_row_sum = f.max_implied_row_sum;
+        stats.progressive = Some(std::mem::take(f));
+        stats.seconds.total = self.started.elapsed().as_secs_f64();
+        Solution {
+            mesh: self.mesh,
+            patch_radiosity,
+            system,
+            stats,
+        }
+    }
+}
+
+/// Area-weighted mean radiosity of the subtree at `key`, stored in each
+/// interior node on the way.
+fn push_up(mesh: &mut Mesh, key: ElementKey) -> Rgb {
+    let children = mesh.elements[key].children.clone();
+    if children.is_empty() {
+        return mesh.elements[key].radiosity;
+    }
+    let mut sum = Rgb::ZERO;
+    for c in children {
+        sum += push_up(mesh, c) * mesh.elements[c].area;
+    }
+    let e = &mut mesh.elements[key];
+    e.radiosity = sum / e.area;
+    e.radiosity
+}
+
+/// Splits every patch to `depth`, failing if that would exceed `max_elements`.
+fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()> {
+    let leaves = mesh.patches.len() as f64 * 4f64.powi(i32::from(depth));
+    if leaves > max_elements as f64 {
+        return Err(Error::Limit(format!(
+            "{} patches split to depth {depth} give {leaves} elements, more than the \
+             element budget of {max_elements}",
+            mesh.patches.len()
+        )));
+    }
+    for _ in 0..depth {
+        for k in mesh.leaves() {
+            mesh.split(k);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,65 @@
+//! What the caller's preview callback sees of a progressive solve under way.
+
+use crate::math::Rgb;
+use crate::mesh::{Mesh, ShadingMesh};
+use crate::pipeline::ObjectRadiosity;
+use crate::scene::Scene;
+
+/// A look at a progressive solve under way, handed to the preview callback.
+#[derive(Clone, Copy, Debug)]
+pub struct Preview<'a> {
+    /// Shots so far.
+    pub shots: usize,
+    /// Unshot power over emitted power.
+    pub unshot_fraction: f64,
+    /// The ambient term now (display only; not in the leaves' radiosities).
+    pub ambient: Rgb,
+    /// Seconds since the solve began.
+    pub seconds: f64,
+    /// The mesh, leaf radiosities as shot so far (interior nodes are not kept
+    /// up to date during shooting).
+    pub mesh: &'a Mesh,
+}
+
+impl Preview<'_> {
+    /// The display mesh, with `rho * ambient` added to every vertex when
+    /// `with_ambient`.
+    #[must_use]
+    pub fn shading_mesh(&self, with_ambient: bool) -> ShadingMesh {
+        let mut vr = self.mesh.vertex_radiosity();
+        if with_ambient {
+            for (id, value) in &mut vr.values {
+                *value += self.mesh.surfaces[id.0 as usize].reflectance * self.ambient;
+            }
+        }
+        self.mesh.shading_mesh(&vr)
+    }
+
+    /// Area-weighted mean radiosity of every object of `scene`, with
+    /// `rho * ambient` added when `with_ambient`.
+    #[must_use]
+    pub fn object_radiosity(&self, scene: &Scene, with_ambient: bool) -> Vec<ObjectRadiosity> {
+        let ambient = if with_ambient {
+            self.ambient
+        } else {
+            Rgb::ZERO
+        };
+        let mut sums = vec![(0.0, Rgb::ZERO); scene.objects.len()];
+        for e in self.mesh.elements.values().filter(|e| e.is_leaf()) {
+            let s = &self.mesh.surfaces[e.surface as usize];
+            let slot = &mut sums[s.object as usize];
+            slot.0 += e.area;
+            slot.1 += (e.radiosity + s.reflectance * ambient) * e.area;
+        }
+        scene
+            .objects
+            .iter()
+            .zip(sums)
+            .map(|(obj, (area, sum))| ObjectRadiosity {
+                name: obj.name.clone(),
+                area,
+                radiosity: if area > 0.0 { sum / area } else { Rgb::ZERO },
+            })
+            .collect()
+    }
+}

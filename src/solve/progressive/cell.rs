@@ -1,0 +1,213 @@
+//! One cell of a shooting patch as a shooter: its hemi-cube, the splits where
+//! its eye is shut in or (classic) a reciprocal exceeds 1, and the form factors
+//! it contributes (see [`super::shoot`] for the forms).
+
+use super::shoot::{ShotFactors, HIDDEN_EYE};
+use super::visibility::{partly_visible, visible_fractions};
+use super::Receivers;
+use crate::formfactor::hemicube::{Coverage, Hemicube};
+use crate::formfactor::{element_seed, point_to_polygon, FormFactorMethod, Sources};
+use crate::math::{polygon_area, polygon_centroid};
+use crate::mesh::{Cell, Mesh};
+use glam::DVec3;
+use smallvec::SmallVec;
+
+/// One cell of the shooting patch, as a shooter.
+struct CellShooter {
+    polygon: SmallVec<[DVec3; 4]>,
+    area: f64,
+    eye: DVec3,
+    angle: f64,
+}
+
+/// What one top-level cell of a shot produced.
+#[derive(Default)]
+pub(super) struct CellResult {
+    /// `(leaf index, form factor)` contributions.
+    pub(super) out: Vec<(u32, f64)>,
+    /// What it took.
+    pub(super) counts: ShotFactors,
+    /// The cells it turned out to consist of once shut-in parts were split
+    /// off (and dropped where shut in at the deepest level).
+    pub(super) open: Vec<Cell>,
+    /// Area of the cells that shot (not shut in), counted once per final cell.
+    pub(super) open_area: f64,
+}
+
+/// What every cell of one shot shares.
+pub(super) struct CellContext<'a> {
+    pub(super) mesh: &'a Mesh,
+    pub(super) receivers: &'a Receivers,
+    pub(super) surface: u32,
+    pub(super) seed: u64,
+    pub(super) method: FormFactorMethod,
+    /// Deepest cell level below the patch for splits of shut-in cells.
+    pub(super) deepest: u8,
+}
+
+impl CellContext<'_> {
+    fn cell_shooter(&self, cell: &Cell) -> CellShooter {
+        let lattice = &self.mesh.surfaces[self.surface as usize];
+        let polygon = lattice.polygon(cell);
+        let area = polygon_area(&polygon);
+        let eye = polygon_centroid(&polygon) + lattice.normal * (1e-6 * area.sqrt());
+        let h = element_seed(self.seed, self.surface, cell);
+        let angle = (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
+        CellShooter {
+            polygon,
+            area,
+            eye,
+            angle,
+        }
+    }
+
+    /// Shoots from one cell: splits it where its eye is shut in or (classic)
+    /// a reciprocal exceeds 1, else adds its form factors. Cells found open
+    /// are listed in `r.open` when `record` (not below a classic split, which
+    /// depends on the receivers of the moment).
+    pub(super) fn shoot(&self, cube: &mut Hemicube, cell: &Cell, record: bool, r: &mut CellResult) {
+        let s = self.cell_shooter(cell);
+        let normal = self.mesh.surfaces[self.surface as usize].normal;
+        // Hybrid renders patches first (see `visibility`); classic needs every
+        // leaf's own pixel count.
+        let first = match self.method {
+            FormFactorMethod::Hybrid => &self.receivers.patch_sources,
+            FormFactorMethod::Hemicube => &self.receivers.sources,
+        };
+        let seen = cube.coverage(first, s.eye, normal, s.angle, self.surface);
+        if seen.back_faces > HIDDEN_EYE {
+            let can_split = self.level_of(cell) < self.deepest && cell.size() >= 2;
+            // The eye is shut in (a point of the floor under a box): it sees
+            // nothing, but part of the cell may lie outside. Smaller cells find
+            // that part; what stays shut in at the deepest level is seen by no
+            // receiver, and shoots nothing, as it emits nothing when gathered.
+            if can_split {
+                r.counts.hidden_splits += 1;
+                for child in cell.children() {
+                    self.shoot(cube, &child, record, r);
+                }
+            } else {
+                r.counts.hidden_cells += 1;
+            }
+            return;
+        }
+        if record {
+            r.open.push(*cell);
+        }
+        match self.method {
+            FormFactorMethod::Hybrid => {
+                r.open_area += s.area;
+                let leaves =
+                    self.partly_visible_leaves(cube, &s, normal, &seen.polygons, &mut r.counts);
+                self.hybrid(&s, normal, &seen.polygons, &leaves, &mut r.out);
+            }
+            FormFactorMethod::Hemicube => {
+                let reciprocal: Vec<(u32, f64)> = seen
+                    .polygons
+                    .iter()
+                    .filter(|c| c.won > 0.0)
+                    .map(|c| (c.id, c.won * s.area / self.receivers.areas[c.id as usize]))
+                    .collect();
+                // No level limit here: once a cell is no larger than the
+                // receivers it overshoots, `F_se A_s / A_e <= F_se <= 1`, so
+                // the splitting stops by itself (or at the lattice's finest
+                // cell).
+                if cell.size() >= 2 && reciprocal.iter().any(|e| e.1 > 1.0) {
+                    r.counts.splits += 1;
+                    for child in cell.children() {
+                        self.shoot(cube, &child, false, r);
+                    }
+                    return;
+                }
+                r.open_area += s.area;
+                for (i, f) in reciprocal {
+                    if f > 1.0 {
+                        r.counts.clips += 1;
+                    }
+                    r.out.push((i, f.min(1.0)));
+                }
+            }
+        }
+    }
+
+    /// Renders the leaves of the partly visible patches among the other
+    /// patches, and returns their coverage by leaf index.
+    fn partly_visible_leaves(
+        &self,
+        cube: &mut Hemicube,
+        s: &CellShooter,
+        normal: DVec3,
+        patches: &[Coverage],
+        counts: &mut ShotFactors,
+    ) -> Vec<Coverage> {
+        let partly = partly_visible(patches);
+        counts.partly_visible += partly.len();
+        if partly.is_empty() {
+            return Vec::new();
+        }
+        let r = self.receivers;
+        let extra: usize = partly
+            .iter()
+            .map(|&p| r.patch_leaves[p as usize].len())
+            .sum();
+        let mut mixed = Sources {
+            polygons: Vec::with_capacity(r.patch_sources.polygons.len() + extra),
+            emitters: Vec::new(),
+        };
+        // Leaf index of each polygon of the mixed list; whole patches only hide.
+        let mut leaf_of = Vec::with_capacity(mixed.polygons.capacity());
+        let mut next = partly.iter().peekable();
+        for (p, poly) in r.patch_sources.polygons.iter().enumerate() {
+            if next.peek() == Some(&&(p as u32)) {
+                next.next();
+                let range = r.patch_leaves[p].clone();
+                mixed.polygons.extend_from_slice(
+                    &r.sources.polygons[range.start as usize..range.end as usize],
+                );
+                leaf_of.extend(range);
+            } else {
+                mixed.polygons.push(poly.clone());
+                leaf_of.push(u32::MAX);
+            }
+        }
+        let seen = cube.coverage(&mixed, s.eye, normal, s.angle, self.surface);
+        seen.polygons
+            .into_iter()
+            .filter(|c| leaf_of[c.id as usize] != u32::MAX)
+            .map(|c| Coverage {
+                id: leaf_of[c.id as usize],
+                ..c
+            })
+            .collect()
+    }
+
+    /// Hybrid: exact magnitude from each leaf's receiving point, visibility
+    /// from the cell's item buffer.
+    fn hybrid(
+        &self,
+        s: &CellShooter,
+        normal: DVec3,
+        patches: &[Coverage],
+        leaves: &[Coverage],
+        out: &mut Vec<(u32, f64)>,
+    ) {
+        for (i, v) in visible_fractions(self.mesh, self.receivers, patches, leaves) {
+            let eye = self.receivers.eyes[i as usize];
+            // A leaf behind the shooter's plane cannot receive from its front,
+            // even when it inherits a visible fraction from its ancestors.
+            if (eye - s.eye).dot(normal) <= 0.0 {
+                continue;
+            }
+            let f = point_to_polygon(eye, self.receivers.normals[i as usize], &s.polygon) * v;
+            if f > 0.0 {
+                out.push((i, f));
+            }
+        }
+    }
+
+    /// Depth of a cell below its patch (from the lattice cell sizes).
+    fn level_of(&self, cell: &Cell) -> u8 {
+        let root = 1u32 << crate::mesh::MAX_DEPTH;
+        (root / cell.size().max(1)).trailing_zeros() as u8
+    }
+}

@@ -1,0 +1,46 @@
+//! Progressive refinement (Cohen, Chen, Wallace, Greenberg 1988): instead of
+//! solving for every patch at once, the patch with the most unshot power
+//! shoots it to every leaf element it sees, and its unshot radiosity becomes
+//! zero. Each receiving leaf `e` gains `dB_e = rho_e dB_i F_ei` (with `F_ei =
+//! F_ie A_i / A_e` in the classic form), and its patch's unshot radiosity the
+//! area-weighted share. No form factor is stored, so early results come in time
+//! linear in the number of patches, and the result converges to the solution
+//! of the same radiosity system as gathering.
+//!
+//! The parts, one file each:
+//!
+//! - [`settings`](ProgressiveSettings): [`SolverKind`], stopping rules, shooter
+//!   cells, refinement pace;
+//! - [`ShootingState`]: radiosity, unshot and shot radiosity per patch,
+//!   irradiance per leaf;
+//! - [`Receivers`]: the leaves as an item-buffer polygon list;
+//! - [`Shooter`]: the form factors of one shot (see its module for the hybrid
+//!   and classic forms, and how reciprocals above 1 are handled);
+//! - [`visible_fractions`]: the visible part of each leaf from the item buffer;
+//! - [`ambient_term`]: the display-only ambient term;
+//! - [`Stopping`]: unshot fraction, shot count, time budget;
+//! - [`adopt`]: new elements of a refinement pass gather what has been shot;
+//! - [`ProgressiveStats`]: the figures.
+//!
+//! The driver that runs these over a scene is `pipeline::progressive`.
+
+mod ambient;
+mod cell;
+mod newborn;
+mod receivers;
+mod report;
+mod settings;
+mod shoot;
+mod state;
+mod stopping;
+mod visibility;
+
+pub use ambient::ambient_term;
+pub use newborn::adopt;
+pub use receivers::Receivers;
+pub use report::{HistoryPoint, ProgressiveStats, ShootingPass};
+pub use settings::{ProgressiveSettings, SolverKind, MAX_SHOOTER_DEPTH};
+pub use shoot::{Shooter, ShotFactors, MAX_SHOOTER_SPLITS};
+pub use state::ShootingState;
+pub use stopping::{StopReason, Stopping};
+pub use visibility::{partly_visible, visible_fractions, RESOLVED_PIXELS};

@@ -1,0 +1,87 @@
+//! The receivers of a shot: the leaf elements in a stable order, as polygons
+//! for the shooter's item buffer (id = position in that order).
+
+use crate::formfactor::Sources;
+use crate::math::Rgb;
+use crate::mesh::{ElementKey, Mesh};
+use glam::DVec3;
+use slotmap::SecondaryMap;
+use std::ops::Range;
+
+/// The leaf elements of a mesh as receivers. Rebuilt whenever the mesh is
+/// refined.
+#[derive(Clone, Debug, Default)]
+pub struct Receivers {
+    /// Leaf keys, patch by patch (the order of [`Mesh::leaves`]).
+    pub leaves: Vec<ElementKey>,
+    /// Leaf polygons; polygon `i` is leaf `i`.
+    pub sources: Sources,
+    /// Patch polygons; polygon `p` is patch `p`.
+    pub patch_sources: Sources,
+    /// The leaves of each patch: a range of leaf indices (leaves are stored
+    /// patch by patch).
+    pub patch_leaves: Vec<Range<u32>>,
+    /// Position of each leaf in `leaves`.
+    pub index: SecondaryMap<ElementKey, u32>,
+    /// Where each leaf receives: its centroid lifted off the surface by a
+    /// distance relative to its own size (as its gathering hemi-cube would be).
+    pub eyes: Vec<DVec3>,
+    /// Unit normal of each leaf.
+    pub normals: Vec<DVec3>,
+    /// Area of each leaf.
+    pub areas: Vec<f64>,
+    /// Reflectance of each leaf.
+    pub reflectances: Vec<Rgb>,
+}
+
+impl Receivers {
+    /// The current leaves of `mesh`.
+    #[must_use]
+    pub fn new(mesh: &Mesh) -> Self {
+        let leaves = mesh.leaves();
+        let sources = Sources::from_elements(mesh, &leaves);
+        let mut index = SecondaryMap::new();
+        let mut eyes = Vec::with_capacity(leaves.len());
+        let mut normals = Vec::with_capacity(leaves.len());
+        let mut areas = Vec::with_capacity(leaves.len());
+        let mut reflectances = Vec::with_capacity(leaves.len());
+        let mut patch_leaves = vec![0..0; mesh.patches.len()];
+        for (i, &k) in leaves.iter().enumerate() {
+            let e = &mesh.elements[k];
+            let n = mesh.surfaces[e.surface as usize].normal;
+            index.insert(k, i as u32);
+            let range = &mut patch_leaves[e.patch as usize];
+            if range.start == range.end {
+                *range = i as u32..i as u32;
+            }
+            range.end = i as u32 + 1;
+            eyes.push(e.centroid + n * (1e-6 * e.area.sqrt()));
+            normals.push(n);
+            areas.push(e.area);
+            reflectances.push(mesh.surfaces[e.surface as usize].reflectance);
+        }
+        Receivers {
+            leaves,
+            sources,
+            patch_sources: Sources::from_mesh(mesh),
+            patch_leaves,
+            index,
+            eyes,
+            normals,
+            areas,
+            reflectances,
+        }
+    }
+
+    /// Number of leaves.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.leaves.len()
+    }
+
+    /// True when there are no leaves.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.leaves.is_empty()
+    }
+}

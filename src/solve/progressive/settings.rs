@@ -1,0 +1,122 @@
+//! Which solver runs, and the settings of the progressive one.
+
+use crate::error::{Error, Result};
+use std::str::FromStr;
+use std::time::Duration;
+
+/// The solver that turns form factors into radiosities.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SolverKind {
+    /// Gathering: element-to-patch rows from receiver hemi-cubes, Gauss-Seidel
+    /// on the patch system, then one gather per element.
+    #[default]
+    GaussSeidel,
+    /// Progressive refinement (shooting): the patch with the most unshot power
+    /// renders a hemi-cube of element ids and distributes that power; no form
+    /// factors are stored.
+    Progressive,
+}
+
+impl FromStr for SolverKind {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "gauss-seidel" => Ok(SolverKind::GaussSeidel),
+            "progressive" => Ok(SolverKind::Progressive),
+            _ => Err(format!(
+                "unknown solver '{s}' (gauss-seidel or progressive)"
+            )),
+        }
+    }
+}
+
+/// Stopping rules, previews and shooter geometry of the progressive solver.
+/// The first stopping rule met ends the solve; the solution is then whatever
+/// has been shot so far (never with the ambient term in it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgressiveSettings {
+    /// Converged when the unshot power, summed over patches and bands, is at
+    /// most this fraction of the emitted power.
+    pub tolerance: f64,
+    /// Stop after this many shots.
+    pub max_shots: Option<usize>,
+    /// Stop once this much wall-clock time has passed since the solve began
+    /// (checked before each shot). Unlike the other rules, where this stops
+    /// depends on the machine.
+    pub time_budget: Option<Duration>,
+    /// Hand a preview to the caller every this many shots.
+    pub preview_every: Option<usize>,
+    /// A shot renders one hemi-cube per cell of the shooting patch at this
+    /// depth below it (`4^depth` hemi-cubes), each shooting the patch's unshot
+    /// radiosity from its own area: smaller shooters see occluders from more
+    /// places, which softens shadows and removes the bias of a single eye.
+    pub shooter_depth: u8,
+    /// Only shots carrying at least this fraction of the emitted power (bands
+    /// summed) use the cells of `shooter_depth`; lighter ones shoot from one
+    /// cell per patch, since their visibility errors weigh that much less.
+    /// 0 makes every shot fine.
+    pub fine_shot_power: f64,
+    /// With adaptive refinement, a refinement pass runs each time the unshot
+    /// fraction has fallen by this factor since the last pass (and once more
+    /// when the tolerance is met), up to `RefineSettings::max_passes` passes.
+    pub refine_factor: f64,
+}
+
+/// The deepest shooter cells allowed (`4^4 = 256` hemi-cubes per shot).
+pub const MAX_SHOOTER_DEPTH: u8 = 4;
+
+impl Default for ProgressiveSettings {
+    fn default() -> Self {
+        ProgressiveSettings {
+            tolerance: 1e-4,
+            max_shots: None,
+            time_budget: None,
+            preview_every: None,
+            shooter_depth: 1,
+            fine_shot_power: 1e-3,
+            refine_factor: 0.25,
+        }
+    }
+}
+
+impl ProgressiveSettings {
+    /// Checks every setting's range; the error names the setting as the CLI
+    /// spells it.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, message: String| Err(Error::Setting { name, message });
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return bad(
+                "unshot-tolerance",
+                format!("must lie in (0, 1), got {}", self.tolerance),
+            );
+        }
+        if self.max_shots == Some(0) {
+            return bad("max-shots", "must be at least 1".to_string());
+        }
+        if self.preview_every == Some(0) {
+            return bad("preview-every", "must be at least 1".to_string());
+        }
+        if self.shooter_depth > MAX_SHOOTER_DEPTH {
+            return bad(
+                "shooter-depth",
+                format!(
+                    "must be at most {MAX_SHOOTER_DEPTH}, got {}",
+                    self.shooter_depth
+                ),
+            );
+        }
+        if !(self.fine_shot_power.is_finite() && (0.0..=1.0).contains(&self.fine_shot_power)) {
+            return bad(
+                "fine-shot-power",
+                format!("must lie in [0, 1], got {}", self.fine_shot_power),
+            );
+        }
+        if !(self.refine_factor > 0.0 && self.refine_factor < 1.0) {
+            return bad(
+                "refine-factor",
+                format!("must lie in (0, 1), got {}", self.refine_factor),
+            );
+        }
+        Ok(())
+    }
+}
