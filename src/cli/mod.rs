@@ -3,6 +3,7 @@
 mod args;
 mod camera_arg;
 mod compare_cmd;
+mod converge_cmd;
 mod probe_cmd;
 mod progress_bar;
 mod reference_cmd;
@@ -29,5 +30,6 @@ pub fn run() -> Result<()> {
         Command::Reference(a) => reference_cmd::run(&a),
         Command::Compare(a) => compare_cmd::run(&a),
         Command::Probe(a) => probe_cmd::run(&a),
+        Command::Converge(a) => converge_cmd::run(&a),
     }
 }
