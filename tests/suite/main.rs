@@ -4,6 +4,7 @@
 mod adaptive;
 mod awkward_geometry;
 mod common;
+mod converge;
 mod determinism;
 mod enclosures;
 mod hemicube;
