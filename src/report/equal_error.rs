@@ -77,6 +77,7 @@ mod tests {
                 mean,
                 rms: mean,
                 max: mean,
+                l1: mean,
                 points: 1,
             },
             objects: Vec::new(),

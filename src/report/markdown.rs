@@ -36,8 +36,9 @@ pub fn markdown_report(scene: &str, reference: &ReferencePoints, records: &[RunR
         out,
         "Relative error at a point: |B - R| / max(R, f) per band, averaged over the \
          bands, with f = {:.0}% of the points' mean reference radiosity \
-         ({:.4}, {:.4}, {:.4}). Seconds: wall-clock time of the library solve on a \
-         shared machine.\n",
+         ({:.4}, {:.4}, {:.4}); mean, RMS and max are over the points. The L1 error \
+         is the mean |B - R| over the mean R. Seconds: wall-clock time of the \
+         library solve on a shared machine.\n",
         ERROR_FLOOR_FRACTION * 100.0,
         f[0],
         f[1],
@@ -45,15 +46,17 @@ pub fn markdown_report(scene: &str, reference: &ReferencePoints, records: &[RunR
     );
     out.push_str(
         "| method | parameter | seconds | patches | elements | hemi-cubes | form factors | \
-         max depth | mean error | RMS error | max error |\n",
+         max depth | mean error | RMS error | max error | L1 error |\n",
     );
-    out.push_str("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    out.push_str(
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+    );
     for r in records {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.method,
-            r.parameter,
+            parameter(r.parameter),
             r.seconds,
             r.patches,
             r.elements,
@@ -62,7 +65,8 @@ pub fn markdown_report(scene: &str, reference: &ReferencePoints, records: &[RunR
             r.max_depth,
             percent(r.errors.mean),
             percent(r.errors.rms),
-            percent(r.errors.max)
+            percent(r.errors.max),
+            percent(r.errors.l1)
         );
     }
     equal_error_section(&mut out, records);
@@ -98,7 +102,7 @@ fn equal_error_section(out: &mut String, records: &[RunRecord]) {
                     out,
                     "| {} | {} | {} | {:.3} | ",
                     metric.name(),
-                    s.parameter,
+                    parameter(s.parameter),
                     percent(s.error),
                     s.seconds
                 );
@@ -106,7 +110,8 @@ fn equal_error_section(out: &mut String, records: &[RunRecord]) {
                     Some((p, e, t)) => {
                         let _ = writeln!(
                             out,
-                            "{p} | {} | {t:.3} | {:.2} |",
+                            "{} | {} | {t:.3} | {:.2} |",
+                            parameter(p),
                             percent(e),
                             t / s.seconds
                         );
@@ -136,7 +141,7 @@ fn objects_section(out: &mut String, records: &[RunRecord]) {
     out.push_str(&" ---: |".repeat(first.objects.len()));
     out.push('\n');
     for r in records.iter().filter(|r| !r.objects.is_empty()) {
-        let _ = write!(out, "| {} | {} |", r.method, r.parameter);
+        let _ = write!(out, "| {} | {} |", r.method, parameter(r.parameter));
         for o in &r.objects {
             let _ = write!(out, " {} |", percent(o.error));
         }
@@ -147,6 +152,21 @@ fn objects_section(out: &mut String, records: &[RunRecord]) {
         let _ = write!(out, " {} |", percent(o.reference_std_error));
     }
     out.push('\n');
+}
+
+/// A parameter with at most three significant digits after the point (patch
+/// sizes are long fractions).
+fn parameter(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || x.abs() >= 100.0 {
+        return format!("{x}");
+    }
+    let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 /// `x` as a percentage with three significant digits.
@@ -170,5 +190,10 @@ mod tests {
         assert_eq!(percent(0.5), "50.0%");
         assert_eq!(percent(2.0), "200%");
         assert_eq!(percent(0.0), "0%");
+        assert_eq!(parameter(0.096_074_038), "0.0961");
+        assert_eq!(parameter(0.0125), "0.0125");
+        assert_eq!(parameter(128.0), "128");
+        assert_eq!(parameter(4.0), "4");
+        assert_eq!(parameter(0.05), "0.05");
     }
 }

@@ -114,7 +114,7 @@ fn measure_run(
     }
     let solution = last.expect("repeats >= 1");
     times.sort_by(f64::total_cmp);
-    let errors = error_summary(&point_errors(&solution, reference)?);
+    let errors = error_summary(reference, &point_errors(&solution, reference)?);
     let objects = match objects {
         Some(r) => object_errors(&solution, scene, r)?,
         None => Vec::new(),

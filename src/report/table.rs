@@ -4,7 +4,7 @@ use super::{ReferencePoints, RunRecord};
 use std::fmt::Write as _;
 
 /// The columns of [`runs_csv`], in order.
-pub const RUN_COLUMNS: [&str; 15] = [
+pub const RUN_COLUMNS: [&str; 16] = [
     "scene",
     "method",
     "parameter",
@@ -18,13 +18,16 @@ pub const RUN_COLUMNS: [&str; 15] = [
     "mean_error",
     "rms_error",
     "max_error",
+    "l1_error",
     "points",
     "reference_error",
 ];
 
 /// One row per run, with a header row of [`RUN_COLUMNS`]. `form_factors` are
-/// the element-to-patch form factors stored; `reference_error` is the
-/// reference's own mean relative standard error (the same on every row).
+/// the element-to-patch form factors stored; `mean_error`, `rms_error`,
+/// `max_error` and `l1_error` are [`ErrorSummary`](super::ErrorSummary)'s;
+/// `reference_error` is the reference's own mean relative standard error (the
+/// same on every row).
 #[must_use]
 pub fn runs_csv(scene: &str, reference: &ReferencePoints, records: &[RunRecord]) -> String {
     let mut out = RUN_COLUMNS.join(",");
@@ -33,7 +36,7 @@ pub fn runs_csv(scene: &str, reference: &ReferencePoints, records: &[RunRecord])
     for r in records {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{:.6e},{:.6e},{:.6e},{},{:.3e}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{:.3e}",
             csv_field(scene),
             r.method,
             r.parameter,
@@ -47,6 +50,7 @@ pub fn runs_csv(scene: &str, reference: &ReferencePoints, records: &[RunRecord])
             r.errors.mean,
             r.errors.rms,
             r.errors.max,
+            r.errors.l1,
             r.errors.points,
             noise
         );
