@@ -54,7 +54,9 @@ pub use equal_error::{equal_error_speedups, EqualErrorSpeedup};
 pub use hidden::sees_only_back_faces;
 pub use markdown::markdown_report;
 pub use method::{Method, SweepRun};
-pub use metrics::{error_summary, point_errors, ErrorMetric, ErrorSummary, ERROR_FLOOR_FRACTION};
+pub use metrics::{
+    error_summary, point_errors, ErrorMetric, ErrorSummary, PointError, ERROR_FLOOR_FRACTION,
+};
 pub use objects::{object_errors, object_reference, ObjectError, ObjectReference};
 pub use plan::SweepPlan;
 pub use plot::{write_depth_plot, write_time_plot};
