@@ -92,7 +92,7 @@ pub struct ConvergeArgs {
     /// Paths per object for --objects.
     #[arg(long = "object-paths", default_value_t = 1_000_000)]
     pub object_paths: u64,
-    /// Solve each run this many times and keep the median time.
+    /// Solve each run this many times and keep the shortest time.
     #[arg(long, default_value_t = 1)]
     pub repeats: usize,
     /// Base solve settings, which every run starts from.

@@ -38,7 +38,7 @@ pub fn markdown_report(scene: &str, reference: &ReferencePoints, records: &[RunR
          bands, with f = {:.0}% of the points' mean reference radiosity \
          ({:.4}, {:.4}, {:.4}); mean, RMS and max are over the points. The L1 error \
          is the mean |B - R| over the mean R. Seconds: wall-clock time of the \
-         library solve on a shared machine.\n",
+         library solve, the shortest of its repeats, on a shared machine.\n",
         ERROR_FLOOR_FRACTION * 100.0,
         f[0],
         f[1],

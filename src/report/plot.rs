@@ -23,6 +23,8 @@ struct Panel {
     x_desc: &'static str,
     y_desc: String,
     curves: Vec<Curve>,
+    /// Where the legend goes: a corner the curves usually leave empty.
+    legend: SeriesLabelPosition,
 }
 
 /// Draws the error of every run against its seconds, log-log, one curve per
@@ -49,6 +51,8 @@ pub fn write_time_plot(scene: &str, records: &[RunRecord], svg: &Path, png: &Pat
                         .collect(),
                 })
                 .collect(),
+            // Error falls with time: the lower left stays empty.
+            legend: SeriesLabelPosition::LowerLeft,
         })
         .collect();
     write_figure(&panels, (1400, 600), svg, png, true)
@@ -98,6 +102,8 @@ pub fn write_depth_plot(
         x_desc: "depth d: elements 1/2^d of the base patch size",
         y_desc: "relative error".to_string(),
         curves,
+        // The largest errors start high on the left and fall to the right.
+        legend: SeriesLabelPosition::UpperRight,
     };
     write_figure(&[panel], (900, 600), svg, png, false)?;
     Ok(true)
@@ -241,7 +247,7 @@ where
         .label_font((FONT, LABEL_SIZE))
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .position(SeriesLabelPosition::LowerLeft)
+        .position(panel.legend.clone())
         .draw()
         .map_err(text)?;
     Ok(())

@@ -16,7 +16,8 @@ pub struct RunRecord {
     pub method: Method,
     /// The value of the method's parameter.
     pub parameter: f64,
-    /// Wall-clock seconds of the library solve (the median over repeats).
+    /// Wall-clock seconds of the library solve: the shortest of the repeats,
+    /// the one least slowed by other work on the machine.
     pub seconds: f64,
     /// Patches of the final mesh.
     pub patches: usize,
@@ -59,7 +60,7 @@ pub enum SweepEvent<'a> {
     },
 }
 
-/// Solves every run `repeats` times (keeping the median time; the solution is
+/// Solves every run `repeats` times (keeping the shortest time; the solution is
 /// the same bits each time) and measures it against `reference`, and against
 /// `objects` when given. Runs are solved one after another, each using every
 /// worker thread, so their times are comparable.
@@ -113,7 +114,6 @@ fn measure_run(
         last = Some(solution);
     }
     let solution = last.expect("repeats >= 1");
-    times.sort_by(f64::total_cmp);
     let errors = error_summary(reference, &point_errors(&solution, reference)?);
     let objects = match objects {
         Some(r) => object_errors(&solution, scene, r)?,
@@ -131,7 +131,7 @@ fn measure_run(
     Ok(RunRecord {
         method: run.method,
         parameter: run.parameter,
-        seconds: times[times.len() / 2],
+        seconds: times.iter().copied().fold(f64::INFINITY, f64::min),
         patches: stats.patches,
         elements: stats.elements,
         hemicubes: stats.hemicube.hemicubes,
