@@ -43,6 +43,75 @@ pub enum Command {
     Compare(CompareArgs),
     /// Solve a scene and write the radiosity at given points as CSV.
     Probe(Box<ProbeArgs>),
+    /// Run time against error: sweep subdivision depths, adaptive tolerances
+    /// and hemi-cube resolutions, measure each solve against a reference at
+    /// fixed points, and write CSV, Markdown and plots (SVG and PNG).
+    Converge(Box<ConvergeArgs>),
+}
+
+/// `radiosity converge`.
+#[derive(Args, Debug, Clone)]
+pub struct ConvergeArgs {
+    /// Built-in scene names or glTF files; each gets its own report.
+    #[arg(required = true)]
+    pub scenes: Vec<String>,
+    /// Folder for SCENE.csv, SCENE.md, SCENE_error_time.svg/.png and
+    /// SCENE_error_depth.svg/.png (and SCENE_objects.csv with --objects).
+    #[arg(long, default_value = "out/converge")]
+    pub out: PathBuf,
+    /// Which sweeps to run: uniform, adaptive, hemicube, patches.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "uniform,adaptive,hemicube"
+    )]
+    pub methods: Vec<String>,
+    /// Uniform subdivision depths (method uniform).
+    #[arg(long, value_delimiter = ',', default_value = "0,1,2,3")]
+    pub depths: Vec<u8>,
+    /// Adaptive refinement tolerances (method adaptive).
+    #[arg(long, value_delimiter = ',', default_value = "0.2,0.1,0.05,0.025")]
+    pub tolerances: Vec<f64>,
+    /// Hemi-cube resolutions, at the other base settings (method hemicube).
+    #[arg(long, value_delimiter = ',', default_value = "32,64,128,256")]
+    pub resolutions: Vec<usize>,
+    /// Divisors of the base patch size for uniformly small patches with no
+    /// elements below them (method patches).
+    #[arg(
+        long = "patch-divisions",
+        value_delimiter = ',',
+        default_value = "1,2,3"
+    )]
+    pub patch_divisions: Vec<u32>,
+    /// Reference points (on the floor for the exact oracle of a built-in
+    /// penumbra scene, else spread over all surfaces for Monte Carlo).
+    #[arg(long, default_value_t = 256)]
+    pub points: usize,
+    /// Monte Carlo paths per reference point.
+    #[arg(long, default_value_t = 100_000)]
+    pub paths: u64,
+    /// Seed of the Monte Carlo points and paths.
+    #[arg(long = "reference-seed", default_value_t = 1)]
+    pub reference_seed: u64,
+    /// Use the Monte Carlo reference even where an exact oracle exists.
+    #[arg(long = "monte-carlo")]
+    pub monte_carlo: bool,
+    /// Also measure per-object mean radiosity errors against path-traced
+    /// object means.
+    #[arg(long)]
+    pub objects: bool,
+    /// Paths per object for --objects.
+    #[arg(long = "object-paths", default_value_t = 1_000_000)]
+    pub object_paths: u64,
+    /// Solve each run this many times and keep the shortest time.
+    #[arg(long, default_value_t = 1)]
+    pub repeats: usize,
+    /// Base solve settings, which every run starts from.
+    #[command(flatten)]
+    pub settings: SolveSettingsArgs,
+    /// Print no progress.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// `radiosity compare`.

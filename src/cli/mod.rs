@@ -4,6 +4,7 @@ mod args;
 mod bake_cmd;
 mod camera_arg;
 mod compare_cmd;
+mod converge_cmd;
 mod diff_cmd;
 mod probe_cmd;
 mod progress_bar;
@@ -37,5 +38,6 @@ pub fn run() -> Result<()> {
         Command::Reference(a) => reference_cmd::run(&a),
         Command::Compare(a) => compare_cmd::run(&a),
         Command::Probe(a) => probe_cmd::run(&a),
+        Command::Converge(a) => converge_cmd::run(&a),
     }
 }

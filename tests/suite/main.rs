@@ -5,6 +5,7 @@ mod adaptive;
 mod awkward_geometry;
 mod bake;
 mod common;
+mod converge;
 mod determinism;
 mod enclosures;
 mod hemicube;
