@@ -15,6 +15,11 @@ pub struct EqualErrorSpeedup {
     /// The cheapest run of the other method with an error no larger, if any:
     /// its parameter, error and seconds.
     pub rival: Option<(f64, f64, f64)>,
+    /// The other method's seconds at exactly this run's error, interpolated
+    /// linearly in log error and log time between two of its runs, one less
+    /// and one more accurate (the cheapest such estimate); `None` when no two
+    /// of its runs bracket the error.
+    pub rival_interpolated_seconds: Option<f64>,
 }
 
 impl EqualErrorSpeedup {
@@ -24,12 +29,19 @@ impl EqualErrorSpeedup {
     pub fn speedup(&self) -> Option<f64> {
         self.rival.map(|(_, _, s)| s / self.seconds)
     }
+
+    /// [`Self::rival_interpolated_seconds`] over this run's seconds.
+    #[must_use]
+    pub fn interpolated_speedup(&self) -> Option<f64> {
+        self.rival_interpolated_seconds.map(|s| s / self.seconds)
+    }
 }
 
 /// For every run of `candidate` (in record order), the cheapest run of `rival`
-/// whose `metric` error is no larger. This compares measured runs only; it
-/// never interpolates between them, so the speedups are lower bounds where the
-/// rival's curve is coarse.
+/// whose `metric` error is no larger, and the rival's time interpolated at the
+/// candidate's error. The measured rival run may be more accurate than needed,
+/// so where the rival's curve is coarse [`EqualErrorSpeedup::speedup`]
+/// overstates the candidate's advantage; the interpolated figure does not.
 #[must_use]
 pub fn equal_error_speedups(
     records: &[RunRecord],
@@ -37,6 +49,7 @@ pub fn equal_error_speedups(
     rival: Method,
     metric: ErrorMetric,
 ) -> Vec<EqualErrorSpeedup> {
+    let rival_method = rival;
     records
         .iter()
         .filter(|r| r.method == candidate)
@@ -52,9 +65,51 @@ pub fn equal_error_speedups(
                 error,
                 seconds: r.seconds,
                 rival,
+                rival_interpolated_seconds: interpolated_seconds(
+                    records,
+                    rival_method,
+                    metric,
+                    error,
+                ),
             }
         })
         .collect()
+}
+
+/// The time at which `method`'s curve reaches `error`: on the curve's
+/// Pareto front (the runs that no faster run beats in error), log time is
+/// interpolated linearly in log error between the two neighbouring runs that
+/// bracket `error`. `None` when the front does not reach `error` or starts
+/// below it.
+fn interpolated_seconds(
+    records: &[RunRecord],
+    method: Method,
+    metric: ErrorMetric,
+    error: f64,
+) -> Option<f64> {
+    let mut runs: Vec<(f64, f64)> = records
+        .iter()
+        .filter(|r| r.method == method)
+        .map(|r| (r.seconds, metric.of(&r.errors)))
+        .filter(|(t, e)| *t > 0.0 && *e > 0.0)
+        .collect();
+    runs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut front: Vec<(f64, f64)> = Vec::new();
+    for run in runs {
+        if front.last().is_none_or(|last| run.1 < last.1) {
+            front.push(run);
+        }
+    }
+    if front.iter().any(|p| p.1 == error) {
+        return front.iter().find(|p| p.1 == error).map(|p| p.0);
+    }
+    front.windows(2).find_map(|pair| {
+        let ((t_coarse, e_coarse), (t_fine, e_fine)) = (pair[0], pair[1]);
+        (e_fine < error && error < e_coarse).then(|| {
+            let w = (error.ln() - e_coarse.ln()) / (e_fine.ln() - e_coarse.ln());
+            (t_coarse.ln() + w * (t_fine.ln() - t_coarse.ln())).exp()
+        })
+    })
 }
 
 #[cfg(test)]
@@ -90,6 +145,8 @@ mod tests {
             record(Method::Uniform, 1.0, 1.0, 0.10),
             record(Method::Uniform, 2.0, 4.0, 0.05),
             record(Method::Uniform, 3.0, 16.0, 0.02),
+            // Slower and less accurate than depth 2: off the front, ignored.
+            record(Method::Uniform, 9.0, 5.0, 0.06),
             record(Method::Adaptive, 0.1, 2.0, 0.04),
             record(Method::Adaptive, 0.01, 3.0, 0.01),
         ];
@@ -104,5 +161,12 @@ mod tests {
         assert_eq!(s[0].speedup(), Some(8.0));
         assert_eq!(s[1].rival, None);
         assert_eq!(s[1].speedup(), None);
+        // 0.04 lies between uniform's 0.05 (4 s) and 0.02 (16 s), neighbours
+        // on its front: in log-log, w = ln(0.8) / ln(0.4), t = 4 * 4^w.
+        let w = 0.8f64.ln() / 0.4f64.ln();
+        let t = 4.0 * 4f64.powf(w);
+        assert!((s[0].rival_interpolated_seconds.unwrap() - t).abs() < 1e-12);
+        assert!((s[0].interpolated_speedup().unwrap() - t / 2.0).abs() < 1e-12);
+        assert_eq!(s[1].rival_interpolated_seconds, None);
     }
 }
