@@ -214,7 +214,7 @@ fn split_to(mesh: &mut Mesh, key: ElementKey, depth: u8) {
 }
 
 /// Splits every patch to `depth`, failing if that would exceed `max_elements`.
-fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()> {
+pub(crate) fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()> {
     let leaves = mesh.patches.len() as f64 * 4f64.powi(i32::from(depth));
     if leaves > max_elements as f64 {
         return Err(Error::Limit(format!(

@@ -49,7 +49,7 @@ pub fn gather(mesh: &mut Mesh, b: &[Rgb]) -> GatherTotals {
 }
 
 /// Area-weighted mean radiosity of the subtree at `key`, stored in each node.
-fn push_up(mesh: &mut Mesh, key: ElementKey) -> Rgb {
+pub(crate) fn push_up(mesh: &mut Mesh, key: ElementKey) -> Rgb {
     let children = mesh.elements[key].children.clone();
     if children.is_empty() {
         return mesh.elements[key].radiosity;

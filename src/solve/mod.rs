@@ -11,6 +11,7 @@ mod gauss_seidel;
 pub mod progressive;
 mod system;
 
+pub(crate) use gather::push_up;
 pub use gather::{gather, GatherTotals};
 pub use gauss_seidel::{
     gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS, STALL_SWEEPS,

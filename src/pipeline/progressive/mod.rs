@@ -6,7 +6,7 @@ mod preview;
 
 pub use preview::Preview;
 
-use super::{PassStats, Progress, Settings, Solution, SolveStats, Stage};
+use super::{split_uniformly, PassStats, Progress, Settings, Solution, SolveStats, Stage};
 use crate::error::{Error, Result};
 use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
 use crate::formfactor::{compute_rows, RowSettings, Sources};
@@ -18,7 +18,7 @@ use crate::solve::progressive::{
     adopt, ambient_term, HistoryPoint, ProgressiveStats, Receivers, Shooter, ShootingPass,
     ShootingState, StopReason, Stopping,
 };
-use crate::solve::{GatherTotals, PatchSystem, SolveReport, SolverKind};
+use crate::solve::{push_up, GatherTotals, PatchSystem, SolveReport, SolverKind};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -372,38 +372,4 @@ impl Run<'_> {
             stats,
         }
     }
-}
-
-/// Area-weighted mean radiosity of the subtree at `key`, stored in each
-/// interior node on the way.
-fn push_up(mesh: &mut Mesh, key: ElementKey) -> Rgb {
-    let children = mesh.elements[key].children.clone();
-    if children.is_empty() {
-        return mesh.elements[key].radiosity;
-    }
-    let mut sum = Rgb::ZERO;
-    for c in children {
-        sum += push_up(mesh, c) * mesh.elements[c].area;
-    }
-    let e = &mut mesh.elements[key];
-    e.radiosity = sum / e.area;
-    e.radiosity
-}
-
-/// Splits every patch to `depth`, failing if that would exceed `max_elements`.
-fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()> {
-    let leaves = mesh.patches.len() as f64 * 4f64.powi(i32::from(depth));
-    if leaves > max_elements as f64 {
-        return Err(Error::Limit(format!(
-            "{} patches split to depth {depth} give {leaves} elements, more than the \
-             element budget of {max_elements}",
-            mesh.patches.len()
-        )));
-    }
-    for _ in 0..depth {
-        for k in mesh.leaves() {
-            mesh.split(k);
-        }
-    }
-    Ok(())
 }
