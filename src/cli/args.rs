@@ -190,6 +190,10 @@ pub struct SolveSettingsArgs {
     /// Shadow rays for emitters a hemi-cube saw only in part (hybrid only).
     #[arg(long = "emitter-rays", default_value = "on", value_parser = ["on", "off"])]
     pub emitter_rays: String,
+    /// Emitter form factors as the receiving element's mean over Gauss points
+    /// (element) or its centre's value (centre); hybrid with emitter rays only.
+    #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "element"])]
+    pub emitter_samples: String,
     /// Largest patch edge in metres [default: the scene's diagonal / 10].
     #[arg(long = "patch-size")]
     pub patch_size: Option<f64>,

@@ -1,7 +1,7 @@
 //! Element-to-patch rows for many receivers at once, in parallel.
 
 use super::hemicube::{DeltaTable, Hemicube, HemicubeStats};
-use super::{Occluders, Row, Sources};
+use super::{element_samples, EmitterVisibility, Occluders, Row, Samples, Sources};
 use crate::mesh::{Cell, ElementKey, Mesh};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -19,6 +19,9 @@ pub struct RowSettings {
     /// Ray cast the visibility of emitters the item buffer saw only in part
     /// (hybrid method only).
     pub emitter_rays: bool,
+    /// Make an emitter's entry the receiving element's mean form factor (Gauss
+    /// points over the element) rather than its centre's.
+    pub emitter_element_mean: bool,
 }
 
 /// A well-mixed 64-bit hash (SplitMix64 finaliser).
@@ -82,7 +85,19 @@ pub fn compute_rows(
                 // element's own size, so that the offset is scale invariant.
                 let eye = e.centroid + lattice.normal * (1e-6 * e.area.sqrt());
                 let before = cube.stats;
-                let rays = occluders.as_ref().map(|o| (o, h));
+                let lift = lattice.normal * (1e-6 * e.area.sqrt());
+                let samples = match &occluders {
+                    Some(_) if settings.emitter_element_mean => {
+                        element_samples(&lattice.polygon(&e.cell), lift)
+                    }
+                    Some(_) => Samples::from_buf_and_len([(eye, 1.0); 4], 1),
+                    None => Samples::new(),
+                };
+                let rays = occluders.as_ref().map(|o| EmitterVisibility {
+                    occluders: o,
+                    seed: h,
+                    samples: &samples,
+                });
                 let row = cube.row(
                     sources,
                     eye,

@@ -1,4 +1,5 @@
-//! Ray-cast visibility of emitters from a receiving point.
+//! Visibility of emitters from a receiving point: exact by clipping where few
+//! polygons lie in the shaft (see `shaft.rs`), else by shadow rays.
 //!
 //! The hemi-cube knows visibility only to a pixel: a light partly hidden by an
 //! occluder is seen through a staircase of pixels, and the shadow's penumbra
@@ -9,7 +10,8 @@
 //! form-factor kernel. Rays go through a BVH (the `obvhs` crate) over the patch
 //! polygons; every hit is decided in double precision against the polygon.
 
-use super::Sources;
+use super::shaft::{pieces_form_factor, sliver_area, subtract, Piece, Shaft, MAX_OCCLUDERS};
+use super::{point_to_polygon, Sources};
 use glam::DVec3;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
@@ -38,6 +40,20 @@ pub enum PixelHint {
     Partial,
     /// Too small to cover a pixel centre: 8 x 8 rays, trusted if they agree.
     Unseen,
+}
+
+/// What the hybrid form factors need to treat emitters exactly: the occluders,
+/// the row's seed for the rays, and quadrature points over the receiving
+/// element (point, weight; the weights sum to 1), so that an emitter's entry is
+/// the element's mean form factor rather than its centre's.
+#[derive(Clone, Copy, Debug)]
+pub struct EmitterVisibility<'a> {
+    /// Every patch polygon, for shaft and ray queries.
+    pub occluders: &'a Occluders,
+    /// Seed of the row's rays.
+    pub seed: u64,
+    /// Quadrature points over the receiving element and their weights.
+    pub samples: &'a [(DVec3, f64)],
 }
 
 /// Every patch polygon as an occluder, for shadow rays.
@@ -147,15 +163,129 @@ impl Occluders {
         })
     }
 
+    /// The mean over `samples` (points of the receiving element, with weights
+    /// summing to 1) of the visible form factor to patch `target`, each computed
+    /// exactly by clipping; `None` if any point needs the rays instead.
+    #[must_use]
+    pub fn mean_visible_form_factor(
+        &self,
+        sources: &Sources,
+        samples: &[(DVec3, f64)],
+        normal: DVec3,
+        own_surface: u32,
+        target: u32,
+    ) -> Option<f64> {
+        let poly = &sources.polygons[target as usize];
+        let light = &poly.vertices[..poly.count as usize];
+        let mut sum = 0.0;
+        for &(point, weight) in samples {
+            let fraction = self.exact_fraction(sources, point, normal, own_surface, target)?;
+            if fraction > 0.0 {
+                sum += weight * fraction * point_to_polygon(point, normal, light);
+            }
+        }
+        Some(sum)
+    }
+
+    /// The exact fraction of the form factor from (`eye`, `normal`) to patch
+    /// `target` that no polygon blocks, by cutting the shadows of the polygons
+    /// in the shaft out of the target; `None` when the shaft holds too many of
+    /// them or the geometry is degenerate for projection (the rays decide then).
+    fn exact_fraction(
+        &self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        own_surface: u32,
+        target: u32,
+    ) -> Option<f64> {
+        let poly = &sources.polygons[target as usize];
+        let light = &poly.vertices[..poly.count as usize];
+        let full = point_to_polygon(eye, normal, light);
+        // An emitter shines from its front only.
+        if full <= 0.0 || poly.normal.dot(eye - light[0]) <= 0.0 {
+            return Some(0.0);
+        }
+        let shaft = Shaft::new(eye, light, poly.normal)?;
+        let (mut lo, mut hi) = (eye, eye);
+        for v in light {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+        let pad = DVec3::splat(self.pad);
+        let bounds = Aabb::new(
+            (lo - self.centre - pad).as_vec3a(),
+            (hi - self.centre + pad).as_vec3a(),
+        );
+        let mut shadows: Vec<Piece> = Vec::new();
+        let mut overflow = false;
+        self.bvh.aabb_traverse(bounds, |bvh, node| {
+            let node = &bvh.nodes[node as usize];
+            let first = node.first_index as usize;
+            for slot in first..first + node.prim_count as usize {
+                let p = &sources.polygons[bvh.primitive_indices[slot] as usize];
+                if p.surface == own_surface || p.surface == poly.surface {
+                    continue;
+                }
+                if let Some(shadow) = shaft.shadow_of(&p.vertices[..p.count as usize]) {
+                    shadows.push(shadow);
+                    if shadows.len() > MAX_OCCLUDERS {
+                        overflow = true;
+                        return false;
+                    }
+                }
+            }
+            true
+        });
+        if overflow {
+            return None;
+        }
+        if shadows.is_empty() {
+            return Some(1.0);
+        }
+        // The BVH's traversal order is fixed by its build, so the pieces (and
+        // the sum over them) come out the same on every run.
+        let mut pieces = vec![Piece::from_slice(light)];
+        let min_area = sliver_area(light);
+        for shadow in &shadows {
+            if !subtract(&mut pieces, shadow, poly.normal, min_area) {
+                return None;
+            }
+            if pieces.is_empty() {
+                return Some(0.0);
+            }
+        }
+        Some((pieces_form_factor(eye, normal, &pieces) / full).clamp(0.0, 1.0))
+    }
+
     /// The fraction of the form factor from (`eye`, `normal`) to patch `target`
-    /// that is not blocked, estimated with stratified jittered rays weighted by
-    /// the point-to-point kernel. A first, small set of rays is trusted only
-    /// when its rays agree with each other and with what the item buffer saw
-    /// (`hint`); otherwise 16 x 16 rays decide, since a thin visible or hidden
-    /// sliver can slip between the first samples.
+    /// that is not blocked: exact where at most a few dozen polygons lie in the
+    /// shaft, else estimated with shadow rays (`seed`, `hint`).
     #[must_use]
     #[allow(clippy::too_many_arguments)]
     pub fn visible_fraction(
+        &self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        own_surface: u32,
+        target: u32,
+        seed: u64,
+        hint: PixelHint,
+    ) -> f64 {
+        match self.exact_fraction(sources, eye, normal, own_surface, target) {
+            Some(f) => f,
+            None => self.ray_fraction(sources, eye, normal, own_surface, target, seed, hint),
+        }
+    }
+
+    /// The ray estimate of [`Self::visible_fraction`]: stratified jittered rays
+    /// weighted by the point-to-point kernel. A first, small set of rays is
+    /// trusted only when its rays agree with each other and with what the item
+    /// buffer saw (`hint`); otherwise 32 x 32 rays decide, since a thin visible
+    /// or hidden sliver can slip between the first samples.
+    #[allow(clippy::too_many_arguments)]
+    fn ray_fraction(
         &self,
         sources: &Sources,
         eye: DVec3,

@@ -67,6 +67,7 @@ pub fn solve(
         seed: settings.seed,
         method: settings.form_factors,
         emitter_rays: settings.emitter_rays,
+        emitter_element_mean: settings.emitter_element_mean,
     };
     let mut sources = Sources::from_mesh(&mesh);
     let mut hemicube = HemicubeStats::default();

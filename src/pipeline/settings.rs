@@ -20,6 +20,9 @@ pub struct Settings {
     /// Ray cast the visibility of emitters that a hemi-cube saw only in part,
     /// so that penumbrae are not limited to the hemi-cube's pixels.
     pub emitter_rays: bool,
+    /// Make each emitter's form factor the receiving element's mean (over Gauss
+    /// points) instead of its centre's value (hybrid with emitter rays only).
+    pub emitter_element_mean: bool,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
     /// Gathering (Gauss-Seidel) or shooting (progressive refinement).
@@ -40,6 +43,7 @@ impl Default for Settings {
             seed: 1,
             form_factors: FormFactorMethod::default(),
             emitter_rays: true,
+            emitter_element_mean: false,
             solver: SolverSettings::default(),
             solver_kind: SolverKind::default(),
             progressive: ProgressiveSettings::default(),

@@ -123,3 +123,67 @@ fn shading_is_continuous_across_refined_and_unrefined_neighbours() {
         "the test needs refined/unrefined boundaries ({checked})"
     );
 }
+
+/// Area-weighted mean absolute error of the floor's elements against the
+/// exact element means, relative to the brightest exact element mean.
+fn floor_error(spec: &PenumbraSpec, settings: &Settings) -> (usize, f64) {
+    let scene = spec.scene().unwrap();
+    let sol = radiosity::solve(&scene, settings, &|_| {}).unwrap();
+    let floor = floor_object(spec);
+    let (mut count, mut sum, mut area, mut brightest) = (0, 0.0, 0.0, 0.0f64);
+    for e in sol.mesh.elements.values().filter(|e| e.is_leaf()) {
+        let lattice = &sol.mesh.surfaces[e.surface as usize];
+        if lattice.object != floor {
+            continue;
+        }
+        let exact = spec.exact_element_mean(&lattice.polygon(&e.cell)).unwrap();
+        brightest = brightest.max(exact.max_band());
+        sum += (e.radiosity - exact).abs().max_band() * e.area;
+        area += e.area;
+        count += 1;
+    }
+    (count, sum / area / brightest)
+}
+
+/// The substructuring claim: adaptive subdivision reaches the error of the
+/// uniform depth-4 mesh with at most a quarter of its elements. Measured on
+/// the narrow penumbra (a 0.25 m light), where sharp shadows occupy a small
+/// part of the floor, with emitter form factors as element means so that the
+/// smooth lit regions need no subdivision. "Reaches" allows 1% of the uniform
+/// mesh's error: the adaptive mesh has the same finest elements in the
+/// penumbra, and the rest differ in the fifth digit (6.13e-5 against 6.12e-5
+/// when written).
+#[test]
+fn adaptive_reaches_uniform_depth_four_with_a_quarter_of_its_elements() {
+    let spec = radiosity::scenes::penumbra::penumbra_narrow();
+    let mut uniform = Settings::default();
+    uniform.emitter_element_mean = true;
+    uniform.refine.uniform_depth = Some(4);
+    let mut adaptive = Settings::default();
+    adaptive.emitter_element_mean = true;
+    adaptive.refine.max_depth = 4;
+    let (n_uniform, e_uniform) = floor_error(&spec, &uniform);
+    let (n_adaptive, e_adaptive) = floor_error(&spec, &adaptive);
+    assert!(
+        4 * n_adaptive <= n_uniform,
+        "adaptive used {n_adaptive} floor elements, uniform depth 4 {n_uniform}"
+    );
+    assert!(
+        e_adaptive <= 1.01 * e_uniform,
+        "adaptive error {e_adaptive:.3e} against uniform depth 4's {e_uniform:.3e}"
+    );
+}
+
+/// With exact emitter visibility and element-mean form factors, a penumbra
+/// whose edges cross the elements at an angle is within 1e-5 of the light-on
+/// radiosity already at uniform depth 2 (measured 4.1e-6 when written; the
+/// shadow rays it replaces left 8e-4).
+#[test]
+fn element_mean_emitters_match_the_exact_penumbra() {
+    let spec = radiosity::scenes::penumbra::penumbra_rotated();
+    let mut settings = Settings::default();
+    settings.emitter_element_mean = true;
+    settings.refine.uniform_depth = Some(2);
+    let (_, error) = floor_error(&spec, &settings);
+    assert!(error < 1e-5, "mean floor error {error:.3e}");
+}

@@ -3,7 +3,9 @@
 
 use super::faces::Face;
 use super::table::DeltaTable;
-use crate::formfactor::{point_to_polygon, FormFactorMethod, Occluders, PixelHint, Row, Sources};
+use crate::formfactor::{
+    point_to_polygon, EmitterVisibility, FormFactorMethod, PixelHint, Row, Sources,
+};
 use glam::{DVec2, DVec3};
 use std::sync::Arc;
 
@@ -112,7 +114,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
         method: FormFactorMethod,
-        emitter_rays: Option<(&Occluders, u64)>,
+        emitter_rays: Option<EmitterVisibility<'_>>,
     ) -> Row {
         let hybrid = method == FormFactorMethod::Hybrid;
         self.render(sources, eye, normal, angle, own_surface, hybrid);
@@ -250,7 +252,7 @@ impl Hemicube {
         eye: DVec3,
         normal: DVec3,
         own_surface: u32,
-        emitter_rays: Option<(&Occluders, u64)>,
+        emitter_rays: Option<EmitterVisibility<'_>>,
     ) -> Row {
         let mut entries: Vec<(u32, f64)> = row
             .entries()
@@ -281,7 +283,12 @@ impl Hemicube {
         if entries.len() > before {
             entries.sort_unstable_by_key(|e| e.0);
         }
-        if let Some((occluders, seed)) = emitter_rays {
+        if let Some(EmitterVisibility {
+            occluders,
+            seed,
+            samples,
+        }) = emitter_rays
+        {
             let mut changed = false;
             for &j in &sources.emitters {
                 let poly = &sources.polygons[j as usize];
@@ -302,11 +309,25 @@ impl Hemicube {
                 } else {
                     PixelHint::Hidden
                 };
-                let visible =
-                    occluders.visible_fraction(sources, eye, normal, own_surface, j, seed, hint);
+                // The element's mean form factor where every sample can be
+                // clipped exactly; else the centre's, with ray-cast visibility.
+                let f = occluders
+                    .mean_visible_form_factor(sources, samples, normal, own_surface, j)
+                    .unwrap_or_else(|| {
+                        exact
+                            * occluders.visible_fraction(
+                                sources,
+                                eye,
+                                normal,
+                                own_surface,
+                                j,
+                                seed,
+                                hint,
+                            )
+                    });
                 match entries.binary_search_by_key(&j, |e| e.0) {
-                    Ok(i) => entries[i].1 = exact * visible,
-                    Err(i) => entries.insert(i, (j, exact * visible)),
+                    Ok(i) => entries[i].1 = f,
+                    Err(i) => entries.insert(i, (j, f)),
                 }
                 changed = true;
             }
