@@ -95,8 +95,8 @@ fn parameters_note(out: &mut String, records: &[RunRecord]) {
 }
 
 /// For each pair of methods present, the cheapest rival run at least as
-/// accurate as each candidate run, and the rival's interpolated time, in mean
-/// and largest error; the last column repeats the interpolated ratio in CPU
+/// accurate as each candidate run, and the rival's interpolated time, in mean,
+/// L1 and largest error; the last column repeats the interpolated ratio in CPU
 /// time.
 fn equal_error_section(out: &mut String, records: &[RunRecord]) {
     let present = |m: Method| records.iter().any(|r| r.method == m);
@@ -105,7 +105,6 @@ fn equal_error_section(out: &mut String, records: &[RunRecord]) {
         (Method::Adaptive, Method::Patches),
         (Method::Uniform, Method::Patches),
         (Method::Progressive, Method::Adaptive),
-        (Method::Progressive, Method::Uniform),
     ];
     for (candidate, rival) in pairs {
         if !(present(candidate) && present(rival)) {
@@ -127,7 +126,7 @@ fn equal_error_section(out: &mut String, records: &[RunRecord]) {
              CPU ratio |\n\
              | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
         );
-        for metric in [ErrorMetric::Mean, ErrorMetric::Max] {
+        for metric in [ErrorMetric::Mean, ErrorMetric::L1, ErrorMetric::Max] {
             let wall = equal_error_speedups(records, candidate, rival, metric, Clock::Wall);
             let cpu = equal_error_speedups(records, candidate, rival, metric, Clock::Cpu);
             for s in wall {

@@ -200,7 +200,10 @@ fn progressive_stopping_points_get_closer_to_the_oracle_as_less_power_is_unshot(
 
     let markdown = markdown_report(&scene.name, &reference, &records);
     assert!(markdown.contains("| progressive | 0.9 |"), "{markdown}");
-    assert!(markdown.contains("## progressive against uniform at equal error"));
+    assert!(
+        markdown.contains("parameter: unshot fraction"),
+        "{markdown}"
+    );
 }
 
 /// The Monte Carlo reference, forced on a penumbra scene, agrees with the
