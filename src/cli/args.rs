@@ -43,8 +43,8 @@ pub enum Command {
     Compare(CompareArgs),
     /// Solve a scene and write the radiosity at given points as CSV.
     Probe(Box<ProbeArgs>),
-    /// Run time against error: sweep subdivision depths, adaptive tolerances
-    /// and hemi-cube resolutions, measure each solve against a reference at
+    /// Run time against error: sweep subdivision depths, adaptive tolerances,
+    /// hemi-cube resolutions and progressive stopping points, measure each solve against a reference at
     /// fixed points, and write CSV, Markdown and plots (SVG and PNG).
     Converge(Box<ConvergeArgs>),
 }
@@ -59,11 +59,11 @@ pub struct ConvergeArgs {
     /// SCENE_error_depth.svg/.png (and SCENE_objects.csv with --objects).
     #[arg(long, default_value = "out/converge")]
     pub out: PathBuf,
-    /// Which sweeps to run: uniform, adaptive, hemicube, patches.
+    /// Which sweeps to run: uniform, adaptive, hemicube, patches, progressive.
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "uniform,adaptive,hemicube"
+        default_value = "uniform,adaptive,hemicube,progressive"
     )]
     pub methods: Vec<String>,
     /// Uniform subdivision depths (method uniform).
@@ -83,6 +83,14 @@ pub struct ConvergeArgs {
         default_value = "1,2,3"
     )]
     pub patch_divisions: Vec<u32>,
+    /// Unshot-power fractions at which the progressive solver stops, one run
+    /// each, at the base mesh settings (method progressive).
+    #[arg(
+        long = "unshot-fractions",
+        value_delimiter = ',',
+        default_value = "0.3,0.1,0.03,0.01,0.001"
+    )]
+    pub unshot_fractions: Vec<f64>,
     /// Reference points (on the floor for the exact oracle of a built-in
     /// penumbra scene, else spread over all surfaces for Monte Carlo).
     #[arg(long, default_value_t = 256)]

@@ -104,6 +104,11 @@ fn converge_one(a: &ConvergeArgs, methods: &[Method], name: &str) -> Result<()> 
         } else {
             Vec::new()
         },
+        unshot_fractions: if wants(Method::Progressive) {
+            a.unshot_fractions.clone()
+        } else {
+            Vec::new()
+        },
     };
     let runs = plan.runs(&scene)?;
     if runs.is_empty() {
@@ -117,11 +122,13 @@ fn converge_one(a: &ConvergeArgs, methods: &[Method], name: &str) -> Result<()> 
         } = event
         {
             say(format!(
-                "  [{}/{total}] {} {}: {:.3} s, {} elements, mean error {:.3e}, max {:.3e}",
+                "  [{}/{total}] {} {}: {:.3} s ({} CPU s), {} elements, mean error {:.3e}, \
+                 max {:.3e}",
                 index + 1,
                 r.method,
                 r.parameter,
                 r.seconds,
+                r.cpu_seconds.map_or("?".to_string(), |c| format!("{c:.3}")),
                 r.elements,
                 r.errors.mean,
                 r.errors.max

@@ -2,6 +2,27 @@
 
 use super::{ErrorMetric, Method, RunRecord};
 
+/// Which time of a run to compare.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Clock {
+    /// [`RunRecord::seconds`]: wall-clock time.
+    Wall,
+    /// [`RunRecord::cpu_seconds`]: CPU time of the process, steadier on a
+    /// shared machine. Runs without it are left out.
+    Cpu,
+}
+
+impl Clock {
+    /// The run's time on this clock.
+    #[must_use]
+    pub fn of(self, record: &RunRecord) -> Option<f64> {
+        match self {
+            Clock::Wall => Some(record.seconds),
+            Clock::Cpu => record.cpu_seconds,
+        }
+    }
+}
+
 /// One run of the faster candidate against the cheapest run of the other
 /// method that is at least as accurate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -10,7 +31,7 @@ pub struct EqualErrorSpeedup {
     pub parameter: f64,
     /// Its error (in the metric compared).
     pub error: f64,
-    /// Its seconds.
+    /// Its seconds (on the clock compared).
     pub seconds: f64,
     /// The cheapest run of the other method with an error no larger, if any:
     /// its parameter, error and seconds.
@@ -39,60 +60,53 @@ impl EqualErrorSpeedup {
 
 /// For every run of `candidate` (in record order), the cheapest run of `rival`
 /// whose `metric` error is no larger, and the rival's time interpolated at the
-/// candidate's error. The measured rival run may be more accurate than needed,
-/// so where the rival's curve is coarse [`EqualErrorSpeedup::speedup`]
-/// overstates the candidate's advantage; the interpolated figure does not.
+/// candidate's error, all times on `clock`. The measured rival run may be more
+/// accurate than needed, so where the rival's curve is coarse
+/// [`EqualErrorSpeedup::speedup`] overstates the candidate's advantage; the
+/// interpolated figure does not. Runs without a time on `clock` are left out.
 #[must_use]
 pub fn equal_error_speedups(
     records: &[RunRecord],
     candidate: Method,
     rival: Method,
     metric: ErrorMetric,
+    clock: Clock,
 ) -> Vec<EqualErrorSpeedup> {
     let rival_method = rival;
-    records
-        .iter()
-        .filter(|r| r.method == candidate)
-        .map(|r| {
+    let timed = |method: Method| {
+        records
+            .iter()
+            .filter(move |r| r.method == method)
+            .filter_map(move |r| clock.of(r).map(|t| (r, t)))
+    };
+    timed(candidate)
+        .map(|(r, seconds)| {
             let error = metric.of(&r.errors);
-            let rival = records
-                .iter()
-                .filter(|o| o.method == rival && metric.of(&o.errors) <= error)
-                .min_by(|a, b| a.seconds.total_cmp(&b.seconds))
-                .map(|o| (o.parameter, metric.of(&o.errors), o.seconds));
+            let rival = timed(rival_method)
+                .filter(|(o, _)| metric.of(&o.errors) <= error)
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(o, t)| (o.parameter, metric.of(&o.errors), t));
+            let curve: Vec<(f64, f64)> = timed(rival_method)
+                .map(|(o, t)| (t, metric.of(&o.errors)))
+                .collect();
             EqualErrorSpeedup {
                 parameter: r.parameter,
                 error,
-                seconds: r.seconds,
+                seconds,
                 rival,
-                rival_interpolated_seconds: interpolated_seconds(
-                    records,
-                    rival_method,
-                    metric,
-                    error,
-                ),
+                rival_interpolated_seconds: interpolated_seconds(curve, error),
             }
         })
         .collect()
 }
 
-/// The time at which `method`'s curve reaches `error`: on the curve's
-/// Pareto front (the runs that no faster run beats in error), log time is
-/// interpolated linearly in log error between the two neighbouring runs that
-/// bracket `error`. `None` when the front does not reach `error` or starts
-/// below it.
-fn interpolated_seconds(
-    records: &[RunRecord],
-    method: Method,
-    metric: ErrorMetric,
-    error: f64,
-) -> Option<f64> {
-    let mut runs: Vec<(f64, f64)> = records
-        .iter()
-        .filter(|r| r.method == method)
-        .map(|r| (r.seconds, metric.of(&r.errors)))
-        .filter(|(t, e)| *t > 0.0 && *e > 0.0)
-        .collect();
+/// The time at which a curve of `(seconds, error)` runs reaches `error`: on
+/// the curve's Pareto front (the runs that no faster run beats in error), log
+/// time is interpolated linearly in log error between the two neighbouring
+/// runs that bracket `error`. `None` when the front does not reach `error` or
+/// starts below it.
+fn interpolated_seconds(mut runs: Vec<(f64, f64)>, error: f64) -> Option<f64> {
+    runs.retain(|(t, e)| *t > 0.0 && *e > 0.0);
     runs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut front: Vec<(f64, f64)> = Vec::new();
     for run in runs {
@@ -122,6 +136,7 @@ mod tests {
             method,
             parameter,
             seconds,
+            cpu_seconds: Some(2.0 * seconds),
             patches: 0,
             elements: 0,
             hemicubes: 0,
@@ -155,6 +170,7 @@ mod tests {
             Method::Adaptive,
             Method::Uniform,
             ErrorMetric::Mean,
+            Clock::Wall,
         );
         assert_eq!(s.len(), 2);
         assert_eq!(s[0].rival, Some((3.0, 0.02, 16.0)));
@@ -168,5 +184,26 @@ mod tests {
         assert!((s[0].rival_interpolated_seconds.unwrap() - t).abs() < 1e-12);
         assert!((s[0].interpolated_speedup().unwrap() - t / 2.0).abs() < 1e-12);
         assert_eq!(s[1].rival_interpolated_seconds, None);
+        // The test records' CPU time is twice the wall time: the same ratios.
+        let cpu = equal_error_speedups(
+            &records,
+            Method::Adaptive,
+            Method::Uniform,
+            ErrorMetric::Mean,
+            Clock::Cpu,
+        );
+        assert_eq!(cpu[0].rival, Some((3.0, 0.02, 32.0)));
+        assert!((cpu[0].interpolated_speedup().unwrap() - t / 2.0).abs() < 1e-12);
+        // A run without a CPU time is left out of CPU comparisons.
+        let mut partial = records.to_vec();
+        partial[2].cpu_seconds = None;
+        let cpu = equal_error_speedups(
+            &partial,
+            Method::Adaptive,
+            Method::Uniform,
+            ErrorMetric::Mean,
+            Clock::Cpu,
+        );
+        assert_eq!(cpu[0].rival, None);
     }
 }

@@ -1,7 +1,7 @@
 //! The Markdown report of a sweep.
 
 use super::{
-    equal_error_speedups, ErrorMetric, Method, ReferenceKind, ReferencePoints, RunRecord,
+    equal_error_speedups, Clock, ErrorMetric, Method, ReferenceKind, ReferencePoints, RunRecord,
     ERROR_FLOOR_FRACTION,
 };
 use std::fmt::Write as _;
@@ -38,26 +38,31 @@ pub fn markdown_report(scene: &str, reference: &ReferencePoints, records: &[RunR
          bands, with f = {:.0}% of the points' mean reference radiosity \
          ({:.4}, {:.4}, {:.4}); mean, RMS and max are over the points. The L1 error \
          is the mean |B - R| over the mean R. Seconds: wall-clock time of the \
-         library solve, the shortest of its repeats, on a shared machine.\n",
+         library solve, the shortest of its repeats, on a shared machine; CPU \
+         seconds: user plus system time of the process over all its threads \
+         during the solve, the smallest of the repeats.\n",
         ERROR_FLOOR_FRACTION * 100.0,
         f[0],
         f[1],
         f[2]
     );
+    parameters_note(&mut out, records);
     out.push_str(
-        "| method | parameter | seconds | patches | elements | hemi-cubes | form factors | \
-         max depth | mean error | RMS error | max error | L1 error |\n",
+        "| method | parameter | seconds | CPU seconds | patches | elements | hemi-cubes | \
+         form factors | max depth | mean error | RMS error | max error | L1 error |\n",
     );
     out.push_str(
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: \
+         | ---: |\n",
     );
     for r in records {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.method,
             parameter(r.parameter),
             r.seconds,
+            r.cpu_seconds.map_or(String::new(), |c| format!("{c:.3}")),
             r.patches,
             r.elements,
             r.hemicubes,
@@ -74,15 +79,32 @@ pub fn markdown_report(scene: &str, reference: &ReferencePoints, records: &[RunR
     out
 }
 
+/// One line per method present saying what its parameter is.
+fn parameters_note(out: &mut String, records: &[RunRecord]) {
+    for method in Method::ALL {
+        if records.iter().any(|r| r.method == method) {
+            let _ = writeln!(
+                out,
+                "- {method}: {}; parameter: {}.",
+                method.label(),
+                method.parameter_name()
+            );
+        }
+    }
+    out.push('\n');
+}
+
 /// For each pair of methods present, the cheapest rival run at least as
-/// accurate as each candidate run, and the rival's interpolated time, in mean
-/// and largest error.
+/// accurate as each candidate run, and the rival's interpolated time, in mean,
+/// L1 and largest error; the last column repeats the interpolated ratio in CPU
+/// time.
 fn equal_error_section(out: &mut String, records: &[RunRecord]) {
     let present = |m: Method| records.iter().any(|r| r.method == m);
     let pairs = [
         (Method::Adaptive, Method::Uniform),
         (Method::Adaptive, Method::Patches),
         (Method::Uniform, Method::Patches),
+        (Method::Progressive, Method::Adaptive),
     ];
     for (candidate, rival) in pairs {
         if !(present(candidate) && present(rival)) {
@@ -96,13 +118,22 @@ fn equal_error_section(out: &mut String, records: &[RunRecord]) {
              which flatters the {candidate} run); then the {rival} time interpolated at \
              exactly this error, in log-log between the two neighbouring runs of its \
              Pareto front, and that ratio (empty where the {rival} runs do not bracket \
-             the error).\n\n\
+             the error). Ratios above 1 mean the {candidate} run is faster. Times are \
+             wall-clock seconds; the last column is the interpolated ratio in CPU \
+             seconds instead.\n\n\
              | metric | {candidate} run | error | seconds | fastest {rival} run as accurate | \
-             its error | its seconds | ratio | {rival} seconds at this error | ratio |\n\
-             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+             its error | its seconds | ratio | {rival} seconds at this error | ratio | \
+             CPU ratio |\n\
+             | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
         );
-        for metric in [ErrorMetric::Mean, ErrorMetric::Max] {
-            for s in equal_error_speedups(records, candidate, rival, metric) {
+        for metric in [ErrorMetric::Mean, ErrorMetric::L1, ErrorMetric::Max] {
+            let wall = equal_error_speedups(records, candidate, rival, metric, Clock::Wall);
+            let cpu = equal_error_speedups(records, candidate, rival, metric, Clock::Cpu);
+            for s in wall {
+                let cpu_ratio = cpu
+                    .iter()
+                    .find(|c| c.parameter == s.parameter)
+                    .and_then(|c| c.interpolated_speedup());
                 let _ = write!(
                     out,
                     "| {} | {} | {} | {:.3} | ",
@@ -125,9 +156,15 @@ fn equal_error_section(out: &mut String, records: &[RunRecord]) {
                 }
                 match s.rival_interpolated_seconds {
                     Some(t) => {
-                        let _ = writeln!(out, "{t:.3} | {:.2} |", t / s.seconds);
+                        let _ = write!(out, "{t:.3} | {:.2} | ", t / s.seconds);
                     }
-                    None => out.push_str("| |\n"),
+                    None => out.push_str("| | "),
+                }
+                match cpu_ratio {
+                    Some(ratio) => {
+                        let _ = writeln!(out, "{ratio:.2} |");
+                    }
+                    None => out.push_str("|\n"),
                 }
             }
         }

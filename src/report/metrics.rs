@@ -37,6 +37,8 @@ pub enum ErrorMetric {
     Rms,
     /// [`ErrorSummary::max`].
     Max,
+    /// [`ErrorSummary::l1`].
+    L1,
 }
 
 impl ErrorMetric {
@@ -47,6 +49,7 @@ impl ErrorMetric {
             ErrorMetric::Mean => summary.mean,
             ErrorMetric::Rms => summary.rms,
             ErrorMetric::Max => summary.max,
+            ErrorMetric::L1 => summary.l1,
         }
     }
 
@@ -57,6 +60,7 @@ impl ErrorMetric {
             ErrorMetric::Mean => "mean",
             ErrorMetric::Rms => "RMS",
             ErrorMetric::Max => "max",
+            ErrorMetric::L1 => "L1",
         }
     }
 }

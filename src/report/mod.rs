@@ -5,14 +5,16 @@
 //! # Brief overview
 //!
 //! - [`SweepPlan`] lists what to vary ([`Method`]: uniform subdivision depths,
-//!   adaptive tolerances, hemi-cube resolutions, uniformly small patches) and
-//!   turns a base [`Settings`](crate::Settings) into one [`SweepRun`] per value.
+//!   adaptive tolerances, hemi-cube resolutions, uniformly small patches, the
+//!   progressive solver's stopping points) and turns a base
+//!   [`Settings`](crate::Settings) into one [`SweepRun`] per value.
 //! - [`ReferencePoints`] is the ground truth at a fixed set of points: the exact
 //!   oracle on the floor of a built-in penumbra scene
 //!   ([`ReferencePoints::exact`]), or the Monte Carlo path tracer of
 //!   [`crate::reference`] at points spread over every non-emitting surface
 //!   ([`ReferencePoints::monte_carlo`]). It is computed once per sweep.
-//! - [`run_sweep`] solves every run, times it and measures its
+//! - [`run_sweep`] solves every run, times it (wall clock and
+//!   [`process_cpu_seconds`]) and measures its
 //!   [`ErrorSummary`] (mean, RMS and largest relative error at the points),
 //!   giving one [`RunRecord`] each. With [`ObjectReference`]s it also measures
 //!   per-object mean errors.
@@ -36,6 +38,7 @@
 //!
 //! The library never prints; progress is reported through a callback.
 
+mod cpu_time;
 mod equal_error;
 mod hidden;
 mod markdown;
@@ -50,7 +53,8 @@ mod reference_points;
 mod sweep;
 mod table;
 
-pub use equal_error::{equal_error_speedups, EqualErrorSpeedup};
+pub use cpu_time::process_cpu_seconds;
+pub use equal_error::{equal_error_speedups, Clock, EqualErrorSpeedup};
 pub use hidden::sees_only_back_faces;
 pub use markdown::markdown_report;
 pub use method::{Method, SweepRun};
@@ -58,7 +62,7 @@ pub use metrics::{
     error_summary, point_errors, ErrorMetric, ErrorSummary, PointError, ERROR_FLOOR_FRACTION,
 };
 pub use objects::{object_errors, object_reference, ObjectError, ObjectReference};
-pub use plan::SweepPlan;
+pub use plan::{SweepPlan, DEFAULT_UNSHOT_FRACTIONS};
 pub use plot::{write_depth_plot, write_time_plot};
 pub use points::floor_points;
 pub use reference_points::{MonteCarloPoints, ReferenceKind, ReferencePoint, ReferencePoints};

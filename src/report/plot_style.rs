@@ -22,6 +22,7 @@ pub(crate) fn colour(method: Method) -> RGBColor {
         Method::Adaptive => RGBColor(213, 94, 0),
         Method::Hemicube => RGBColor(0, 158, 115),
         Method::Patches => RGBColor(204, 121, 167),
+        Method::Progressive => RGBColor(0, 0, 0),
     }
 }
 

@@ -1,5 +1,6 @@
 //! Running a sweep: solve, time and measure every run.
 
+use super::cpu_time::process_cpu_seconds;
 use super::metrics::{error_summary, point_errors, ErrorSummary};
 use super::objects::{object_errors, ObjectError, ObjectReference};
 use super::{Method, ReferencePoints, SweepRun};
@@ -19,6 +20,10 @@ pub struct RunRecord {
     /// Wall-clock seconds of the library solve: the shortest of the repeats,
     /// the one least slowed by other work on the machine.
     pub seconds: f64,
+    /// CPU seconds (user plus system, over every thread of the process) of
+    /// the library solve: the smallest of the repeats. `None` where the
+    /// platform does not tell (see [`process_cpu_seconds`]).
+    pub cpu_seconds: Option<f64>,
     /// Patches of the final mesh.
     pub patches: usize,
     /// Leaf elements of the final mesh.
@@ -60,10 +65,12 @@ pub enum SweepEvent<'a> {
     },
 }
 
-/// Solves every run `repeats` times (keeping the shortest time; the solution is
-/// the same bits each time) and measures it against `reference`, and against
-/// `objects` when given. Runs are solved one after another, each using every
-/// worker thread, so their times are comparable.
+/// Solves every run `repeats` times (keeping the shortest wall-clock and the
+/// smallest CPU time, each over the repeats; the solution is the same bits each
+/// time) and measures it against `reference`, and against `objects` when given.
+/// Runs are solved one after another, each using every worker thread, so their
+/// times are comparable. Every method's error is measured the same way, from
+/// the solution's element radiosities ([`point_errors`]).
 ///
 /// Fails on `repeats == 0` and on the first run that fails, naming it.
 pub fn run_sweep(
@@ -104,13 +111,18 @@ fn measure_run(
     repeats: usize,
 ) -> Result<RunRecord> {
     let mut times = Vec::with_capacity(repeats);
+    let mut cpu_times = Vec::with_capacity(repeats);
     let mut last: Option<Solution> = None;
     for _ in 0..repeats {
         // The previous solution is freed before timing the next one.
         drop(last.take());
+        let cpu_started = process_cpu_seconds();
         let started = Instant::now();
         let solution = solve(scene, &run.settings, &|_| {})?;
         times.push(started.elapsed().as_secs_f64());
+        if let (Some(a), Some(b)) = (cpu_started, process_cpu_seconds()) {
+            cpu_times.push((b - a).max(0.0));
+        }
         last = Some(solution);
     }
     let solution = last.expect("repeats >= 1");
@@ -132,6 +144,8 @@ fn measure_run(
         method: run.method,
         parameter: run.parameter,
         seconds: times.iter().copied().fold(f64::INFINITY, f64::min),
+        cpu_seconds: (cpu_times.len() == repeats)
+            .then(|| cpu_times.iter().copied().fold(f64::INFINITY, f64::min)),
         patches: stats.patches,
         elements: stats.elements,
         hemicubes: stats.hemicube.hemicubes,

@@ -4,11 +4,12 @@ use super::{ReferencePoints, RunRecord};
 use std::fmt::Write as _;
 
 /// The columns of [`runs_csv`], in order.
-pub const RUN_COLUMNS: [&str; 16] = [
+pub const RUN_COLUMNS: [&str; 17] = [
     "scene",
     "method",
     "parameter",
     "seconds",
+    "cpu_seconds",
     "patches",
     "elements",
     "hemicubes",
@@ -23,7 +24,9 @@ pub const RUN_COLUMNS: [&str; 16] = [
     "reference_error",
 ];
 
-/// One row per run, with a header row of [`RUN_COLUMNS`]. `form_factors` are
+/// One row per run, with a header row of [`RUN_COLUMNS`]. `seconds` are
+/// wall-clock seconds, `cpu_seconds` user plus system CPU seconds of the
+/// process (empty where the platform does not tell). `form_factors` are
 /// the element-to-patch form factors stored; `mean_error`, `rms_error`,
 /// `max_error` and `l1_error` are [`ErrorSummary`](super::ErrorSummary)'s;
 /// `reference_error` is the reference's own mean relative standard error (the
@@ -36,11 +39,12 @@ pub fn runs_csv(scene: &str, reference: &ReferencePoints, records: &[RunRecord])
     for r in records {
         let _ = writeln!(
             out,
-            "{},{},{},{:.4},{},{},{},{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{:.3e}",
+            "{},{},{},{:.4},{},{},{},{},{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{:.3e}",
             csv_field(scene),
             r.method,
             r.parameter,
             r.seconds,
+            r.cpu_seconds.map_or(String::new(), |c| format!("{c:.4}")),
             r.patches,
             r.elements,
             r.hemicubes,

@@ -1,10 +1,12 @@
 //! The run-time-against-error sweep (`radiosity::report`): a tiny sweep of the
-//! parallel penumbra scene end to end, and the Monte Carlo reference path
-//! against the exact oracle path at the same points.
+//! parallel penumbra scene end to end, progressive stopping points against the
+//! exact oracle, and the Monte Carlo reference path against the exact oracle
+//! path at the same points.
 
 use radiosity::report::{
-    object_reference, objects_csv, run_sweep, runs_csv, write_depth_plot, write_time_plot, Method,
-    MonteCarloPoints, ReferenceKind, ReferencePoints, SweepPlan, RUN_COLUMNS,
+    markdown_report, object_reference, objects_csv, run_sweep, runs_csv, write_depth_plot,
+    write_time_plot, Method, MonteCarloPoints, ReferenceKind, ReferencePoints, SweepPlan,
+    RUN_COLUMNS,
 };
 use radiosity::scenes::penumbra::penumbra_parallel;
 use radiosity::Settings;
@@ -25,6 +27,7 @@ fn tiny_penumbra_sweep_writes_one_row_per_run_and_finer_uniform_meshes_do_not_lo
         adaptive_tolerances: vec![0.1],
         hemicube_resolutions: vec![32],
         patch_divisions: Vec::new(),
+        unshot_fractions: Vec::new(),
     };
     let runs = plan.runs(&scene).unwrap();
     assert_eq!(runs.len(), 5);
@@ -42,6 +45,7 @@ fn tiny_penumbra_sweep_writes_one_row_per_run_and_finer_uniform_meshes_do_not_lo
         "method",
         "parameter",
         "seconds",
+        "cpu_seconds",
         "elements",
         "hemicubes",
         "form_factors",
@@ -61,7 +65,13 @@ fn tiny_penumbra_sweep_writes_one_row_per_run_and_finer_uniform_meshes_do_not_lo
             row[column("parameter")].parse::<f64>().unwrap(),
             run.parameter
         );
-        for name in ["seconds", "mean_error", "rms_error", "max_error"] {
+        for name in [
+            "seconds",
+            "cpu_seconds",
+            "mean_error",
+            "rms_error",
+            "max_error",
+        ] {
             let v: f64 = row[column(name)].parse().unwrap();
             assert!(v.is_finite() && v >= 0.0, "{name} = {v}");
         }
@@ -117,6 +127,83 @@ fn tiny_penumbra_sweep_writes_one_row_per_run_and_finer_uniform_meshes_do_not_lo
     let (svg, png) = (dir.join("depth.svg"), dir.join("depth.png"));
     let size = plan.base.patch_size_for(&scene);
     assert!(write_depth_plot(&scene.name, &records, size, &svg, &png).unwrap());
+}
+
+/// Progressive stopping points on the parallel penumbra with 0.5 m patches, so
+/// the 1 m light is four patches of a quarter of the power each. The floor's
+/// radiosity is only its direct light (nothing else reflects), so the floor is
+/// final once the four light patches have shot, and before that it misses a
+/// quarter of the light per patch not yet shot. A shot of a light patch leaves
+/// unshot only what the floor reflects of it: about a quarter of the light's
+/// power reaches the floor (form factor from the light's centre to the floor,
+/// 0.36, less 0.10 to the occluder), which reflects half, so `r` is about 0.13
+/// of the shot and surely under 0.2. The floor's own shots change nothing on
+/// the floor. So stopping at an unshot fraction of 0.9 takes one light shot
+/// (0.75 + 0.25 r < 0.9), at 0.5 three (0.5 + 0.5 r > 0.5 >= 0.25 + 0.75 r), at
+/// 0.1 all four, and the error against the exact oracle must fall from run to
+/// run: about 3/4, then 1/4 plus the mesh's own error, then the mesh's error
+/// alone (which the 1 % floor of the relative error makes about 0.2 on this
+/// coarse mesh). A uniform depth-2 mesh keeps it fast.
+#[test]
+fn progressive_stopping_points_get_closer_to_the_oracle_as_less_power_is_unshot() {
+    let spec = penumbra_parallel();
+    let scene = spec.scene().unwrap();
+    let mut base = Settings {
+        patch_size: Some(0.5),
+        hemicube_resolution: 64,
+        ..Settings::default()
+    };
+    base.refine.uniform_depth = Some(2);
+    let plan = SweepPlan {
+        base,
+        uniform_depths: vec![2],
+        adaptive_tolerances: Vec::new(),
+        hemicube_resolutions: Vec::new(),
+        patch_divisions: Vec::new(),
+        unshot_fractions: vec![0.9, 0.5, 0.1],
+    };
+    let runs = plan.runs(&scene).unwrap();
+    let reference = ReferencePoints::exact(&spec, 64).unwrap();
+    let records = run_sweep(&scene, &runs, &reference, None, 1, &|_| {}).unwrap();
+
+    let csv = runs_csv(&scene.name, &reference, &records);
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header, RUN_COLUMNS);
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let progressive: Vec<&Vec<&str>> = rows
+        .iter()
+        .filter(|r| r[column("method")] == "progressive")
+        .collect();
+    assert_eq!(progressive.len(), 3, "{csv}");
+    let mut errors = Vec::new();
+    for (row, fraction) in progressive.iter().zip([0.9, 0.5, 0.1]) {
+        assert_eq!(row.len(), header.len());
+        assert_eq!(row[column("parameter")].parse::<f64>().unwrap(), fraction);
+        for name in ["seconds", "cpu_seconds", "mean_error", "max_error"] {
+            let v: f64 = row[column(name)].parse().unwrap();
+            assert!(v.is_finite() && v >= 0.0, "{name} = {v}");
+        }
+        // The progressive solver keeps the mesh of the base settings.
+        assert_eq!(row[column("max_depth")], "2");
+        errors.push(row[column("mean_error")].parse::<f64>().unwrap());
+    }
+    // One light patch of four shot: about three quarters of the light missing.
+    assert!(errors[0] > 0.5, "{errors:?}");
+    for pair in errors.windows(2) {
+        assert!(
+            pair[1] < 0.75 * pair[0],
+            "mean error does not fall with the unshot fraction: {errors:?}"
+        );
+    }
+
+    let markdown = markdown_report(&scene.name, &reference, &records);
+    assert!(markdown.contains("| progressive | 0.9 |"), "{markdown}");
+    assert!(
+        markdown.contains("parameter: unshot fraction"),
+        "{markdown}"
+    );
 }
 
 /// The Monte Carlo reference, forced on a penumbra scene, agrees with the
