@@ -265,6 +265,14 @@ pub struct SolveSettingsArgs {
     /// Subdivide every patch uniformly to this depth instead of adapting.
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,
+    /// Keep emitted light and exactly N reflections instead of the full
+    /// solution (1 = direct light only; gauss-seidel solver only).
+    #[arg(long, value_name = "N")]
+    pub bounces: Option<u32>,
+    /// Direct light only, as a ray tracer with point lights and no ambient
+    /// term sees diffuse surfaces: the same as --bounces 1.
+    #[arg(long = "direct-only", conflicts_with = "bounces")]
+    pub direct_only: bool,
     /// Seed of the hemi-cube rotations (same seed, same bits).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,

@@ -75,6 +75,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             source_passes: a.source_passes,
             ..RefineSettings::default()
         },
+        bounces: if a.direct_only { Some(1) } else { a.bounces },
         ..Settings::default()
     })
 }
@@ -110,6 +111,8 @@ struct Report<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     progressive: Option<&'a ProgressiveStats>,
     final_max_difference: f64,
+    /// `null`: the full solution; N: emitted light and N reflections.
+    bounces: Option<u32>,
     patch_size: f64,
     threads: usize,
     seed: u64,
@@ -233,6 +236,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         passes: &s.passes,
         progressive: s.progressive.as_ref(),
         final_max_difference: s.final_max_difference,
+        bounces: s.bounces,
         patch_size: s.patch_size,
         threads,
         seed: a.settings.seed,

@@ -25,7 +25,9 @@ use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, mark_sources};
 use crate::scene::Scene;
-use crate::solve::{gather, gauss_seidel, GatherTotals, PatchSystem, SolveReport, SolverKind};
+use crate::solve::{
+    gather, gather_bounces, gauss_seidel, GatherTotals, PatchSystem, SolveReport, SolverKind,
+};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -233,7 +235,8 @@ pub(crate) fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -
 }
 
 /// Gauss-Seidel on the patch system from the current `b`, then the gather;
-/// adds the seconds to the stats.
+/// with `settings.bounces`, a fixed number of reflections from the emission
+/// instead (no warm start). Adds the seconds to the stats.
 fn solve_and_gather(
     mesh: &mut Mesh,
     system: &PatchSystem,
@@ -242,8 +245,13 @@ fn solve_and_gather(
     stats: &mut SolveStats,
 ) -> Result<(SolveReport, GatherTotals)> {
     let t = Instant::now();
-    let report = gauss_seidel(system, b, &settings.solver)?;
-    let totals = gather(mesh, b);
+    let (report, totals) = match settings.bounces {
+        Some(n) => gather_bounces(mesh, system, b, n)?,
+        None => {
+            let report = gauss_seidel(system, b, &settings.solver)?;
+            (report, gather(mesh, b))
+        }
+    };
     stats.seconds.solve += t.elapsed().as_secs_f64();
     Ok((report, totals))
 }

@@ -33,6 +33,11 @@ pub struct Settings {
     pub refine: RefineSettings,
     /// Most patches the mesh may hold.
     pub max_patches: usize,
+    /// `None`: the full solution. `Some(n)`: emitted light and exactly `n`
+    /// reflections, no more (`Some(1)` is direct light only, what a ray tracer
+    /// without an ambient term computes for diffuse surfaces); gathering solver
+    /// only. See [`crate::solve::bounces`].
+    pub bounces: Option<u32>,
 }
 
 impl Default for Settings {
@@ -49,6 +54,7 @@ impl Default for Settings {
             progressive: ProgressiveSettings::default(),
             refine: RefineSettings::default(),
             max_patches: 50_000,
+            bounces: None,
         }
     }
 }
@@ -88,6 +94,18 @@ impl Settings {
                 "relaxation",
                 format!("must lie in (0, 2), got {}", s.relaxation),
             );
+        }
+        if let Some(n) = self.bounces {
+            crate::solve::bounces::check_bounces(n)?;
+            if self.solver_kind == SolverKind::Progressive {
+                return bad(
+                    "bounces",
+                    "a fixed number of reflections applies to the gathering solver \
+                     (gauss-seidel) only; the progressive solver shoots until the unshot \
+                     power is small"
+                        .to_string(),
+                );
+            }
         }
         self.progressive.validate()?;
         self.refine.validate()

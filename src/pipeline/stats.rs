@@ -52,6 +52,11 @@ pub struct EnergyBalance {
     /// `(absorbed - emitted) / emitted`, bands summed (0 in a closed scene;
     /// negative where light escapes an open scene).
     pub relative_difference: f64,
+    /// True when the solve kept a fixed number of reflections
+    /// ([`Settings::bounces`]): the light still travelling after the last one
+    /// is in neither figure, so `relative_difference` is negative even in a
+    /// closed scene. It then measures the truncation, not an error.
+    pub truncated: bool,
 }
 
 /// One refinement pass.
@@ -114,6 +119,9 @@ pub struct SolveStats {
     pub passes: Vec<PassStats>,
     /// Largest remaining neighbour difference (relative), at the last check.
     pub final_max_difference: f64,
+    /// What was computed: `None` (JSON `null`) the full solution, `Some(n)`
+    /// emitted light and exactly `n` reflections ([`Settings::bounces`]).
+    pub bounces: Option<u32>,
     /// Shots, unshot power and the other figures of a progressive solve
     /// (`None` for Gauss-Seidel).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -157,6 +165,8 @@ impl SolveStats {
             emitted_power: totals.emitted,
             absorbed_power: totals.absorbed,
             relative_difference: if e > 0.0 { (a - e) / e } else { 0.0 },
+            truncated: settings.bounces.is_some(),
         };
+        self.bounces = settings.bounces;
     }
 }

@@ -4,13 +4,16 @@
 //! for the three bands at once; its rows are the area-weighted sums of the
 //! element rows. Element radiosities then come from one gather,
 //! `B_e = E_e + rho_e sum_j F_ej B_j`. [`progressive`] solves the same system
-//! by shooting instead.
+//! by shooting instead. [`bounces`] keeps a fixed number of reflections
+//! instead of solving (direct light only, for comparison).
 
+pub mod bounces;
 mod gather;
 mod gauss_seidel;
 pub mod progressive;
 mod system;
 
+pub use bounces::{bounced_radiosity, gather_bounces, MAX_BOUNCES};
 pub(crate) use gather::push_up;
 pub use gather::{gather, GatherTotals};
 pub use gauss_seidel::{

@@ -8,6 +8,7 @@ mod common;
 mod converge;
 mod determinism;
 mod enclosures;
+mod ferren;
 mod hemicube;
 mod hostile_files;
 mod penumbra;
