@@ -1,5 +1,6 @@
 //! Settings of a solve, with defaults derived from the scene.
 
+use super::Skips;
 use crate::error::{Error, Result};
 use crate::formfactor::FormFactorMethod;
 use crate::refine::RefineSettings;
@@ -30,6 +31,9 @@ pub struct Settings {
     pub refine: RefineSettings,
     /// Most patches the mesh may hold.
     pub max_patches: usize,
+    /// Work the solve may leave out where the scene does not need it (all
+    /// on; off only to compare or measure).
+    pub skips: Skips,
 }
 
 impl Default for Settings {
@@ -45,6 +49,7 @@ impl Default for Settings {
             progressive: ProgressiveSettings::default(),
             refine: RefineSettings::default(),
             max_patches: 50_000,
+            skips: Skips::default(),
         }
     }
 }

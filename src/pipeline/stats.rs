@@ -54,6 +54,43 @@ pub struct EnergyBalance {
     pub relative_difference: f64,
 }
 
+/// Work the solve left out because the scene did not need it (see
+/// [`super::Skips`]).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SkipStats {
+    /// Element rows not computed: their surface reflects nothing.
+    pub zero_reflectance_rows: u64,
+    /// Coarse solves and gathers run on one band instead of three: every
+    /// material is grey.
+    pub grey_solves: usize,
+    /// Rows given by the exact unoccluded form factor with no hemi-cube (a
+    /// convex enclosure).
+    pub exact_rows: u64,
+    /// Hemi-cube faces nothing was drawn into, neither cleared nor read out.
+    pub empty_faces: u64,
+    /// Hemi-cube pixels outside the rectangle drawn into on their face
+    /// (empty faces included), neither cleared nor read out.
+    pub pixels_skipped: u64,
+    /// Back faces hemi-cubes did not draw because front faces of their own
+    /// closed object hid them (summed over hemi-cubes).
+    pub back_faces_skipped: u64,
+    /// Patch rows re-summed by refinement passes (only patches with new
+    /// leaves; each pass would otherwise re-sum them all).
+    pub patch_rows_refreshed: usize,
+}
+
+impl SkipStats {
+    /// Adds the row figures of a solve.
+    pub(crate) fn add_rows(&mut self, tally: &super::skips::RowTally) {
+        let h = &tally.hemicube;
+        self.zero_reflectance_rows += tally.zero_reflectance_rows;
+        self.exact_rows += h.exact_rows;
+        self.empty_faces += h.empty_faces;
+        self.pixels_skipped += h.pixels_skipped;
+        self.back_faces_skipped += h.back_faces_skipped;
+    }
+}
+
 /// One refinement pass.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct PassStats {
@@ -114,6 +151,8 @@ pub struct SolveStats {
     pub passes: Vec<PassStats>,
     /// Largest remaining neighbour difference (relative), at the last check.
     pub final_max_difference: f64,
+    /// Work left out because the scene did not need it.
+    pub skips: SkipStats,
     /// Shots, unshot power and the other figures of a progressive solve
     /// (`None` for Gauss-Seidel).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -138,7 +177,16 @@ impl SolveStats {
         self.patch_size = settings.patch_size_for(scene);
         let leaves = mesh.leaves();
         self.elements = leaves.len();
-        let sums: Vec<f64> = leaves.iter().map(|k| mesh.elements[*k].row.sum()).collect();
+        // Leaves left without rows because they reflect nothing have no row
+        // sum to report.
+        let sums: Vec<f64> = leaves
+            .iter()
+            .map(|k| &mesh.elements[*k])
+            .filter(|e| {
+                !(e.row.is_empty() && mesh.surfaces[e.surface as usize].reflectance == Rgb::ZERO)
+            })
+            .map(|e| e.row.sum())
+            .collect();
         self.hemicube = HemicubeFigures {
             resolution: settings.hemicube_resolution,
             hemicubes: hemicube.hemicubes,

@@ -12,9 +12,10 @@ pub mod progressive;
 mod system;
 
 pub(crate) use gather::push_up;
-pub use gather::{gather, GatherTotals};
+pub use gather::{gather, gather_with, GatherOptions, GatherTotals};
 pub use gauss_seidel::{
-    gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS, STALL_SWEEPS,
+    gauss_seidel, gauss_seidel_grey, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS,
+    STALL_SWEEPS,
 };
 pub use progressive::{ProgressiveSettings, SolverKind};
 pub use system::PatchSystem;
