@@ -224,9 +224,8 @@ pub(crate) fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -
     Ok(())
 }
 
-/// Gauss-Seidel on the patch system from the current `b`, then the gather;
-/// adds the seconds to the stats.
-/// A grey scene runs both on one band (`plan.grey`).
+/// Gauss-Seidel on the patch system from the current `b`, then the gather
+/// (both on one band in a grey scene); adds the seconds to the stats.
 fn solve_and_gather(
     mesh: &mut Mesh,
     system: &PatchSystem,

@@ -32,6 +32,9 @@ pub struct HemicubeFigures {
     pub polygons_rasterized: u64,
     /// Pixels depth-tested.
     pub pixels_tested: u64,
+    /// Polygon-hemi-cube pairs dropped before projection: the polygon is on
+    /// the receiver's own surface, wholly behind or on its plane, or edge-on.
+    pub polygons_culled: u64,
     /// Element-to-patch form factors stored.
     pub element_form_factors: usize,
     /// Patch-to-patch form factors stored.
@@ -192,6 +195,7 @@ impl SolveStats {
             hemicubes: hemicube.hemicubes,
             polygons_rasterized: hemicube.polygons_rasterized,
             pixels_tested: hemicube.pixels_tested,
+            polygons_culled: hemicube.polygons_culled,
             element_form_factors: leaves.iter().map(|k| mesh.elements[*k].row.len()).sum(),
             patch_form_factors: system.nonzeros(),
             mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,

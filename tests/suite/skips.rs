@@ -556,6 +556,42 @@ fn closed_convex_objects_hide_their_back_faces_only_from_outside() {
 }
 
 #[test]
+fn an_open_box_shows_its_inside_through_the_opening() {
+    let mut b = SceneBuilder::new("open_box");
+    let m = b.material("m", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+    b.axis_box("box", m, DVec3::ZERO, DVec3::ONE).unwrap();
+    let closed = b.build().unwrap();
+    let mut open = closed.clone();
+    open.surfaces.retain(|s| s.normal.y < 0.9);
+    assert_eq!(open.surfaces.len(), 5);
+    let mut hidden = Vec::new();
+    let all_hidden = |scene: &Scene, eye: DVec3, hidden: &mut Vec<bool>| {
+        ClosedObjects::new(&Mesh::new(scene, 1.0, 100).unwrap()).hidden_from(eye, hidden);
+        assert_eq!(hidden.len(), scene.surfaces.len());
+        hidden.iter().all(|h| *h)
+    };
+    let (above, beside, inside) = (
+        DVec3::new(0.5, 2.0, 0.5),
+        DVec3::new(2.0, 0.5, 0.5),
+        DVec3::new(0.5, 0.5, 0.5),
+    );
+    // Closed: hidden from anywhere outside.
+    assert!(all_hidden(&closed, above, &mut hidden));
+    assert!(all_hidden(&closed, beside, &mut hidden));
+    assert!(!hidden.is_empty() && !all_hidden(&closed, inside, &mut hidden));
+    assert!(hidden.iter().all(|h| !*h), "back faces hidden from inside");
+    // Open at the top: from above, the inside shows through the opening.
+    assert!(all_hidden(&open, beside, &mut hidden));
+    all_hidden(&open, above, &mut hidden);
+    assert!(
+        hidden.iter().all(|h| !*h),
+        "back faces hidden through the opening"
+    );
+    all_hidden(&open, inside, &mut hidden);
+    assert!(hidden.iter().all(|h| !*h), "back faces hidden from inside");
+}
+
+#[test]
 fn skipping_hidden_back_faces_keeps_radiosities_and_shut_in_elements() {
     // A closed box floating in a lit room.
     let scene = lit_room_with_box(1.0, 2.0, 0.01);
