@@ -106,6 +106,7 @@ struct Report<'a> {
     solver: SolverReport,
     energy: &'a radiosity::pipeline::EnergyBalance,
     hemicube: &'a radiosity::pipeline::HemicubeFigures,
+    skips: &'a radiosity::pipeline::SkipStats,
     source_passes: &'a [radiosity::pipeline::SourcePassStats],
     passes: &'a [radiosity::pipeline::PassStats],
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -232,6 +233,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         },
         energy: &s.energy,
         hemicube: &s.hemicube,
+        skips: &s.skips,
         source_passes: &s.source_passes,
         passes: &s.passes,
         progressive: s.progressive.as_ref(),

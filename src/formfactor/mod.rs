@@ -1,6 +1,7 @@
 //! Form factors: the hemi-cube (item buffer of patch ids at a receiving point),
 //! the sparse rows it produces, and the source polygons it rasterizes.
 
+mod backfaces;
 pub mod hemicube;
 mod method;
 mod point_polygon;
@@ -9,12 +10,15 @@ mod row;
 mod rows;
 mod shaft;
 mod sources;
+mod unoccluded;
 mod visibility;
 
+pub use backfaces::{ClosedObjects, MAX_OBJECT_SURFACES};
 pub use method::FormFactorMethod;
 pub use point_polygon::point_to_polygon;
 pub use quadrature::{element_samples, Samples};
 pub use row::Row;
-pub use rows::{compute_rows, element_seed, RowSettings};
+pub use rows::{compute_rows, compute_rows_with, element_seed, RowSettings, RowSkips};
 pub use sources::{SourcePolygon, Sources};
+pub use unoccluded::{is_convex_enclosure, scene_scale, unoccluded_row, CONVEX_TOLERANCE};
 pub use visibility::{EmitterVisibility, Occluders, PixelHint};

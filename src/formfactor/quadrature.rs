@@ -73,7 +73,7 @@ mod tests {
 
     #[test]
     fn quad_rule_integrates_cubics_exactly() {
-        // Mean of x^3 + x y^2 over [0,2] x [0,1]: 2 + 2/3.
+        // Mean of x^3 + x y^2 over [0,2] x [0,1]: 2 + 1 * 1/3.
         let q = [
             DVec3::new(0.0, 0.0, 0.0),
             DVec3::new(2.0, 0.0, 0.0),
@@ -81,7 +81,7 @@ mod tests {
             DVec3::new(0.0, 1.0, 0.0),
         ];
         let mean = integrate(&q, |p| p.x.powi(3) + p.x * p.y * p.y);
-        assert!((mean - (2.0 + 2.0 / 3.0)).abs() < 1e-12, "{mean}");
+        assert!((mean - (2.0 + 1.0 / 3.0)).abs() < 1e-12, "{mean}");
     }
 
     #[test]

@@ -18,6 +18,21 @@ impl Row {
         }
     }
 
+    /// The row without its stored zeros (the same row when it has none).
+    #[must_use]
+    pub fn without_zeros(self) -> Self {
+        if self.entries.iter().all(|e| e.1 != 0.0) {
+            return self;
+        }
+        let kept: Vec<(u32, f32)> = self
+            .entries
+            .iter()
+            .copied()
+            .filter(|e| e.1 != 0.0)
+            .collect();
+        Row::from_sorted(kept)
+    }
+
     /// The stored `(patch, form factor)` pairs.
     #[must_use]
     pub fn entries(&self) -> &[(u32, f32)] {

@@ -1,10 +1,13 @@
 //! Element-to-patch rows for many receivers at once, in parallel.
 
 use super::hemicube::{DeltaTable, Hemicube, HemicubeStats};
-use super::{element_samples, EmitterVisibility, Occluders, Row, Samples, Sources};
+use super::{
+    element_samples, unoccluded_row, ClosedObjects, EmitterVisibility, Occluders, Row, Samples,
+    Sources,
+};
 use crate::mesh::{Cell, ElementKey, Mesh};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 /// How rows are computed.
@@ -53,10 +56,39 @@ pub fn element_seed(seed: u64, surface: u32, cell: &Cell) -> u64 {
     h
 }
 
+/// Work [`compute_rows_with`] may leave out. `empty_faces` gives the same
+/// bits as the full work; `hidden_back_faces` the same but for silhouette
+/// pixels a back face won by rounding; `unoccluded` gives exact rows where
+/// the hemi-cube approximates, and is right only for convex enclosures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowSkips {
+    /// The scene is a convex enclosure ([`super::is_convex_enclosure`]
+    /// holds), so hybrid rows are the exact unoccluded form factors, with no
+    /// hemi-cube. Off by default: elsewhere such rows would ignore occlusion.
+    pub unoccluded: bool,
+    /// Hemi-cubes do not draw the back faces of closed convex objects seen
+    /// from outside them ([`ClosedObjects`]). On by default.
+    pub hidden_back_faces: bool,
+    /// Hemi-cubes clear and read out only the rectangle of each face that was
+    /// drawn into. On by default.
+    pub empty_faces: bool,
+}
+
+impl Default for RowSkips {
+    fn default() -> Self {
+        RowSkips {
+            unoccluded: false,
+            hidden_back_faces: true,
+            empty_faces: true,
+        }
+    }
+}
+
 /// Computes the hemi-cube row of each element in `keys` (in parallel, one
 /// reusable hemi-cube per worker). Results are in the order of `keys` and do
 /// not depend on the thread count. `progress` is called with the number of rows
-/// finished so far.
+/// finished so far. The same as [`compute_rows_with`] and the default
+/// [`RowSkips`].
 pub fn compute_rows(
     mesh: &Mesh,
     sources: &Sources,
@@ -64,19 +96,45 @@ pub fn compute_rows(
     settings: &RowSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> (Vec<Row>, HemicubeStats) {
+    compute_rows_with(
+        mesh,
+        sources,
+        keys,
+        settings,
+        &RowSkips::default(),
+        progress,
+    )
+}
+
+/// [`compute_rows`], leaving out the work `skips` allows.
+pub fn compute_rows_with(
+    mesh: &Mesh,
+    sources: &Sources,
+    keys: &[ElementKey],
+    settings: &RowSettings,
+    skips: &RowSkips,
+    progress: &(dyn Fn(usize) + Sync),
+) -> (Vec<Row>, HemicubeStats) {
     let done = AtomicUsize::new(0);
-    let polygons = AtomicU64::new(0);
-    let pixels = AtomicU64::new(0);
     let patches = mesh.patches.len();
-    let occluders = (settings.emitter_rays
+    let exact = skips.unoccluded && settings.method == super::FormFactorMethod::Hybrid;
+    let occluders = (!exact
+        && settings.emitter_rays
         && settings.method == super::FormFactorMethod::Hybrid
         && !sources.emitters.is_empty())
     .then(|| Occluders::new(sources));
-    let rows = keys
+    let closed = (skips.hidden_back_faces && !exact)
+        .then(|| ClosedObjects::new(mesh))
+        .filter(|c| !c.is_empty());
+    let results: Vec<(Row, HemicubeStats)> = keys
         .par_iter()
         .map_init(
-            || Hemicube::new(Arc::clone(&settings.table), patches),
-            |cube, &key| {
+            || {
+                let mut cube = Hemicube::new(Arc::clone(&settings.table), patches);
+                cube.set_skip_empty_faces(skips.empty_faces);
+                (cube, Vec::new())
+            },
+            |(cube, hidden), &key| {
                 let e = &mesh.elements[key];
                 let lattice = &mesh.surfaces[e.surface as usize];
                 let h = element_seed(settings.seed, e.surface, &e.cell);
@@ -84,49 +142,61 @@ pub fn compute_rows(
                 // Lift the eye off the surface by a distance relative to the
                 // element's own size, so that the offset is scale invariant.
                 let eye = e.centroid + lattice.normal * (1e-6 * e.area.sqrt());
-                let before = cube.stats;
-                let lift = lattice.normal * (1e-6 * e.area.sqrt());
-                let samples = match &occluders {
-                    Some(_) if settings.emitter_element_mean => {
-                        element_samples(&lattice.polygon(&e.cell), lift)
-                    }
-                    Some(_) => Samples::from_buf_and_len([(eye, 1.0); 4], 1),
-                    None => Samples::new(),
+                let (row, stats) = if exact {
+                    let stats = HemicubeStats {
+                        exact_rows: 1,
+                        ..HemicubeStats::default()
+                    };
+                    (
+                        unoccluded_row(sources, eye, lattice.normal, e.surface),
+                        stats,
+                    )
+                } else {
+                    let hidden_back = closed.as_ref().map(|c| {
+                        c.hidden_from(eye, hidden);
+                        hidden.as_slice()
+                    });
+                    let before = cube.stats;
+                    let lift = lattice.normal * (1e-6 * e.area.sqrt());
+                    let samples = match &occluders {
+                        Some(_) if settings.emitter_element_mean => {
+                            element_samples(&lattice.polygon(&e.cell), lift)
+                        }
+                        Some(_) => Samples::from_buf_and_len([(eye, 1.0); 4], 1),
+                        None => Samples::new(),
+                    };
+                    let rays = occluders.as_ref().map(|o| EmitterVisibility {
+                        occluders: o,
+                        seed: h,
+                        samples: &samples,
+                    });
+                    let row = cube.row_hiding(
+                        sources,
+                        hidden_back,
+                        eye,
+                        lattice.normal,
+                        angle,
+                        e.surface,
+                        settings.method,
+                        rays,
+                    );
+                    (row, cube.stats.since(&before))
                 };
-                let rays = occluders.as_ref().map(|o| EmitterVisibility {
-                    occluders: o,
-                    seed: h,
-                    samples: &samples,
-                });
-                let row = cube.row(
-                    sources,
-                    eye,
-                    lattice.normal,
-                    angle,
-                    e.surface,
-                    settings.method,
-                    rays,
-                );
-                polygons.fetch_add(
-                    cube.stats.polygons_rasterized - before.polygons_rasterized,
-                    Ordering::Relaxed,
-                );
-                pixels.fetch_add(
-                    cube.stats.pixels_tested - before.pixels_tested,
-                    Ordering::Relaxed,
-                );
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(64) || n == keys.len() {
                     progress(n);
                 }
-                row
+                (row.without_zeros(), stats)
             },
         )
         .collect();
-    let stats = HemicubeStats {
-        hemicubes: keys.len() as u64,
-        polygons_rasterized: polygons.into_inner(),
-        pixels_tested: pixels.into_inner(),
-    };
+    let mut stats = HemicubeStats::default();
+    let rows = results
+        .into_iter()
+        .map(|(row, s)| {
+            stats.add(&s);
+            row
+        })
+        .collect();
     (rows, stats)
 }

@@ -5,6 +5,7 @@ mod probe;
 mod progress;
 mod progressive;
 mod settings;
+mod skips;
 mod solution;
 mod stats;
 
@@ -13,22 +14,23 @@ pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
 pub use progress::{Progress, Stage};
 pub use progressive::{solve_with_previews, Preview};
 pub use settings::Settings;
+pub use skips::Skips;
 pub use solution::{ObjectRadiosity, Solution};
 pub use stats::{
-    EnergyBalance, HemicubeFigures, PassStats, SolveStats, SourcePassStats, StageSeconds,
+    EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
 };
 
 use crate::error::{Error, Result};
-use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
-use crate::formfactor::{compute_rows, RowSettings, Sources};
+use crate::formfactor::{compute_rows_with, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, mark_sources};
 use crate::scene::Scene;
 use crate::solve::{
-    gather, gather_bounces, gauss_seidel, GatherTotals, PatchSystem, SolveReport, SolverKind,
+    gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, GatherOptions, GatherTotals,
+    PatchSystem, SolveReport, SolverKind,
 };
-use std::sync::Arc;
+use skips::{RowPlan, RowTally};
 use std::time::Instant;
 
 /// Solves `scene` with `settings`, reporting progress through `progress`.
@@ -64,26 +66,13 @@ pub fn solve(
     split_uniformly(&mut mesh, depth0, refine.max_elements)?;
     stats.seconds.mesh = t.elapsed().as_secs_f64();
 
-    let row_settings = RowSettings {
-        table: Arc::new(DeltaTable::new(settings.hemicube_resolution)),
-        seed: settings.seed,
-        method: settings.form_factors,
-        emitter_rays: settings.emitter_rays,
-        emitter_element_mean: settings.emitter_element_mean,
-    };
+    let mut plan = RowPlan::new(&mesh, settings);
     let mut sources = Sources::from_mesh(&mesh);
-    let mut hemicube = HemicubeStats::default();
+    let mut tally = RowTally::default();
 
     let leaves = mesh.leaves();
-    stats.seconds.form_factors += compute_and_store_rows(
-        &mut mesh,
-        &sources,
-        &leaves,
-        &row_settings,
-        &mut hemicube,
-        0,
-        progress,
-    );
+    stats.seconds.form_factors +=
+        compute_and_store_rows(&mut mesh, &sources, &leaves, &plan, &mut tally, 0, progress);
 
     let mut system = PatchSystem::from_mesh(&mesh);
     let mut b: Vec<Rgb> = system.emission.clone();
@@ -93,7 +82,7 @@ pub fn solve(
         total: 1,
     });
     let (mut report, mut totals) =
-        solve_and_gather(&mut mesh, &system, &mut b, settings, &mut stats)?;
+        solve_and_gather(&mut mesh, &system, &mut b, settings, &plan, &mut stats)?;
     let mut iterations = report.iterations;
     progress(Progress {
         stage: Stage::Solve,
@@ -123,19 +112,15 @@ pub fn solve(
             }
             // Rows refer to patches, so every row is recomputed.
             sources = Sources::from_mesh(&mesh);
+            plan.patches_changed(&mesh);
             let leaves = mesh.leaves();
             stats.seconds.form_factors += compute_and_store_rows(
-                &mut mesh,
-                &sources,
-                &leaves,
-                &row_settings,
-                &mut hemicube,
-                0,
-                progress,
+                &mut mesh, &sources, &leaves, &plan, &mut tally, 0, progress,
             );
             system = PatchSystem::from_mesh(&mesh);
             b = mesh.patches.iter().map(|p| p.radiosity).collect();
-            (report, totals) = solve_and_gather(&mut mesh, &system, &mut b, settings, &mut stats)?;
+            (report, totals) =
+                solve_and_gather(&mut mesh, &system, &mut b, settings, &plan, &mut stats)?;
             iterations += report.iterations;
             stats.source_passes.push(SourcePassStats {
                 patches_split: marks.len(),
@@ -167,25 +152,22 @@ pub fn solve(
             touched.sort_unstable();
             touched.dedup();
 
+            let hemicubes_before = tally.hemicube.hemicubes;
             stats.seconds.form_factors += compute_and_store_rows(
-                &mut mesh,
-                &sources,
-                &fresh,
-                &row_settings,
-                &mut hemicube,
-                pass,
-                progress,
+                &mut mesh, &sources, &fresh, &plan, &mut tally, pass, progress,
             );
 
             system.refresh(&mesh, &touched);
-            (report, totals) = solve_and_gather(&mut mesh, &system, &mut b, settings, &mut stats)?;
+            stats.skips.patch_rows_refreshed += touched.len();
+            (report, totals) =
+                solve_and_gather(&mut mesh, &system, &mut b, settings, &plan, &mut stats)?;
             iterations += report.iterations;
 
             stats.passes.push(PassStats {
                 pass,
                 split: marks.split.len(),
                 elements: mesh.leaf_count(),
-                new_hemicubes: fresh.len(),
+                new_hemicubes: (tally.hemicube.hemicubes - hemicubes_before) as usize,
                 seconds: t_pass.elapsed().as_secs_f64(),
                 max_neighbour_difference: marks.max_difference,
                 blocked: marks.blocked,
@@ -195,8 +177,16 @@ pub fn solve(
     }
 
     stats.finish(
-        &mesh, &system, scene, settings, report, iterations, totals, hemicube,
+        &mesh,
+        &system,
+        scene,
+        settings,
+        report,
+        iterations,
+        totals,
+        tally.hemicube,
     );
+    stats.skips.add_rows(&tally);
     stats.seconds.total = started.elapsed().as_secs_f64();
     Ok(Solution {
         mesh,
@@ -234,39 +224,54 @@ pub(crate) fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -
     Ok(())
 }
 
-/// Gauss-Seidel on the patch system from the current `b`, then the gather;
-/// with `settings.bounces`, a fixed number of reflections from the emission
-/// instead (no warm start). Adds the seconds to the stats.
+/// Gauss-Seidel on the patch system from the current `b`, then the gather
+/// (both on one band in a grey scene); with `settings.bounces`, a fixed number
+/// of reflections from the emission instead (no warm start). Adds the seconds
+/// to the stats.
 fn solve_and_gather(
     mesh: &mut Mesh,
     system: &PatchSystem,
     b: &mut [Rgb],
     settings: &Settings,
+    plan: &RowPlan,
     stats: &mut SolveStats,
 ) -> Result<(SolveReport, GatherTotals)> {
     let t = Instant::now();
-    let (report, totals) = match settings.bounces {
-        Some(n) => gather_bounces(mesh, system, b, n)?,
-        None => {
-            let report = gauss_seidel(system, b, &settings.solver)?;
-            (report, gather(mesh, b))
-        }
+    let options = GatherOptions {
+        grey: plan.grey,
+        rowless: plan.rowless_patch.as_deref(),
     };
+    if let Some(n) = settings.bounces {
+        let (report, totals) = gather_bounces(mesh, system, b, n, &options)?;
+        stats.seconds.solve += t.elapsed().as_secs_f64();
+        return Ok((report, totals));
+    }
+    let report = if plan.grey {
+        stats.skips.grey_solves += 1;
+        gauss_seidel_grey(system, b, &settings.solver)?
+    } else {
+        gauss_seidel(system, b, &settings.solver)?
+    };
+    let totals = gather_with(mesh, b, &options);
     stats.seconds.solve += t.elapsed().as_secs_f64();
     Ok((report, totals))
 }
 
-/// Computes and stores the rows of `keys`; returns the seconds it took.
+/// Computes and stores the rows of those `keys` that need one (`plan`);
+/// returns the seconds it took.
 fn compute_and_store_rows(
     mesh: &mut Mesh,
     sources: &Sources,
     keys: &[ElementKey],
-    settings: &RowSettings,
-    hemicube: &mut HemicubeStats,
+    plan: &RowPlan,
+    tally: &mut RowTally,
     pass: usize,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> f64 {
     let started = Instant::now();
+    let (keys, left_out) = plan.needing_rows(mesh, keys);
+    tally.zero_reflectance_rows += left_out as u64;
+    let keys = &keys[..];
     let total = keys.len();
     let report = |done| {
         progress(Progress {
@@ -276,12 +281,10 @@ fn compute_and_store_rows(
         });
     };
     report(0);
-    let (rows, s) = compute_rows(mesh, sources, keys, settings, &report);
+    let (rows, s) = compute_rows_with(mesh, sources, keys, &plan.settings, &plan.skips, &report);
     for (k, row) in keys.iter().zip(rows) {
         mesh.elements[*k].row = row;
     }
-    hemicube.hemicubes += s.hemicubes;
-    hemicube.polygons_rasterized += s.polygons_rasterized;
-    hemicube.pixels_tested += s.pixels_tested;
+    tally.hemicube.add(&s);
     started.elapsed().as_secs_f64()
 }

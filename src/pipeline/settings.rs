@@ -1,5 +1,6 @@
 //! Settings of a solve, with defaults derived from the scene.
 
+use super::Skips;
 use crate::error::{Error, Result};
 use crate::formfactor::FormFactorMethod;
 use crate::refine::RefineSettings;
@@ -38,6 +39,9 @@ pub struct Settings {
     /// without an ambient term computes for diffuse surfaces); gathering solver
     /// only. See [`crate::solve::bounces`].
     pub bounces: Option<u32>,
+    /// Work the solve may leave out where the scene does not need it (all
+    /// on; off only to compare or measure).
+    pub skips: Skips,
 }
 
 impl Default for Settings {
@@ -55,6 +59,7 @@ impl Default for Settings {
             refine: RefineSettings::default(),
             max_patches: 50_000,
             bounces: None,
+            skips: Skips::default(),
         }
     }
 }

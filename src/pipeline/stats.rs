@@ -32,6 +32,9 @@ pub struct HemicubeFigures {
     pub polygons_rasterized: u64,
     /// Pixels depth-tested.
     pub pixels_tested: u64,
+    /// Polygon-hemi-cube pairs dropped before projection: the polygon is on
+    /// the receiver's own surface, wholly behind or on its plane, or edge-on.
+    pub polygons_culled: u64,
     /// Element-to-patch form factors stored.
     pub element_form_factors: usize,
     /// Patch-to-patch form factors stored.
@@ -57,6 +60,43 @@ pub struct EnergyBalance {
     /// is in neither figure, so `relative_difference` is negative even in a
     /// closed scene. It then measures the truncation, not an error.
     pub truncated: bool,
+}
+
+/// Work the solve left out because the scene did not need it (see
+/// [`super::Skips`]).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SkipStats {
+    /// Element rows not computed: their surface reflects nothing.
+    pub zero_reflectance_rows: u64,
+    /// Coarse solves and gathers run on one band instead of three: every
+    /// material is grey.
+    pub grey_solves: usize,
+    /// Rows given by the exact unoccluded form factor with no hemi-cube (a
+    /// convex enclosure).
+    pub exact_rows: u64,
+    /// Hemi-cube faces nothing was drawn into, neither cleared nor read out.
+    pub empty_faces: u64,
+    /// Hemi-cube pixels outside the rectangle drawn into on their face
+    /// (empty faces included), neither cleared nor read out.
+    pub pixels_skipped: u64,
+    /// Back faces hemi-cubes did not draw because front faces of their own
+    /// closed object hid them (summed over hemi-cubes).
+    pub back_faces_skipped: u64,
+    /// Patch rows re-summed by refinement passes (only patches with new
+    /// leaves; each pass would otherwise re-sum them all).
+    pub patch_rows_refreshed: usize,
+}
+
+impl SkipStats {
+    /// Adds the row figures of a solve.
+    pub(crate) fn add_rows(&mut self, tally: &super::skips::RowTally) {
+        let h = &tally.hemicube;
+        self.zero_reflectance_rows += tally.zero_reflectance_rows;
+        self.exact_rows += h.exact_rows;
+        self.empty_faces += h.empty_faces;
+        self.pixels_skipped += h.pixels_skipped;
+        self.back_faces_skipped += h.back_faces_skipped;
+    }
 }
 
 /// One refinement pass.
@@ -122,6 +162,8 @@ pub struct SolveStats {
     /// What was computed: `None` (JSON `null`) the full solution, `Some(n)`
     /// emitted light and exactly `n` reflections ([`Settings::bounces`]).
     pub bounces: Option<u32>,
+    /// Work left out because the scene did not need it.
+    pub skips: SkipStats,
     /// Shots, unshot power and the other figures of a progressive solve
     /// (`None` for Gauss-Seidel).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -146,12 +188,22 @@ impl SolveStats {
         self.patch_size = settings.patch_size_for(scene);
         let leaves = mesh.leaves();
         self.elements = leaves.len();
-        let sums: Vec<f64> = leaves.iter().map(|k| mesh.elements[*k].row.sum()).collect();
+        // Leaves left without rows because they reflect nothing have no row
+        // sum to report.
+        let sums: Vec<f64> = leaves
+            .iter()
+            .map(|k| &mesh.elements[*k])
+            .filter(|e| {
+                !(e.row.is_empty() && mesh.surfaces[e.surface as usize].reflectance == Rgb::ZERO)
+            })
+            .map(|e| e.row.sum())
+            .collect();
         self.hemicube = HemicubeFigures {
             resolution: settings.hemicube_resolution,
             hemicubes: hemicube.hemicubes,
             polygons_rasterized: hemicube.polygons_rasterized,
             pixels_tested: hemicube.pixels_tested,
+            polygons_culled: hemicube.polygons_culled,
             element_form_factors: leaves.iter().map(|k| mesh.elements[*k].row.len()).sum(),
             patch_form_factors: system.nonzeros(),
             mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,

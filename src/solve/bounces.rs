@@ -19,7 +19,7 @@
 //! sum_j F_ej B_j`), so [`gather_bounces`] gathers from `B^(N-1)` to give the
 //! elements exactly `N` reflections, like the patches' `B^(N)`.
 
-use super::{gather, GatherTotals, PatchSystem, SolveReport};
+use super::{gather_with, GatherOptions, GatherTotals, PatchSystem, SolveReport};
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::mesh::Mesh;
@@ -56,10 +56,11 @@ pub fn gather_bounces(
     system: &PatchSystem,
     b: &mut [Rgb],
     bounces: u32,
+    options: &GatherOptions<'_>,
 ) -> Result<(SolveReport, GatherTotals)> {
     check_bounces(bounces)?;
     let before = bounced_radiosity(system, bounces - 1);
-    let totals = gather(mesh, &before);
+    let totals = gather_with(mesh, &before, options);
     for (i, out) in b.iter_mut().enumerate() {
         *out = system.update(i, &before);
     }

@@ -90,14 +90,90 @@ pub const STALL_SWEEPS: usize = 64;
 /// above 0.99999) has no meaningful solution at this precision and is refused.
 pub const MAX_CONTRACTION: f64 = 1.0 - 1e-5;
 
+/// A radiosity value the iteration works on: three bands ([`Rgb`]), or one
+/// (`f64`) for a grey scene, whose bands are equal and independent, so one
+/// band's arithmetic is every band's, operation for operation.
+trait Bands:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Mul<f64, Output = Self>
+    + std::ops::AddAssign
+{
+    const ZERO: Self;
+    const COUNT: usize;
+    fn band(&self, k: usize) -> f64;
+    fn band_mut(&mut self, k: usize) -> &mut f64;
+    fn largest_abs(&self) -> f64;
+    fn largest(&self) -> f64;
+}
+
+impl Bands for Rgb {
+    const ZERO: Self = Rgb::ZERO;
+    const COUNT: usize = 3;
+    fn band(&self, k: usize) -> f64 {
+        self.0[k]
+    }
+    fn band_mut(&mut self, k: usize) -> &mut f64 {
+        &mut self.0[k]
+    }
+    fn largest_abs(&self) -> f64 {
+        self.abs().max_band()
+    }
+    fn largest(&self) -> f64 {
+        self.max_band()
+    }
+}
+
+impl Bands for f64 {
+    const ZERO: Self = 0.0;
+    const COUNT: usize = 1;
+    fn band(&self, _: usize) -> f64 {
+        *self
+    }
+    fn band_mut(&mut self, _: usize) -> &mut f64 {
+        self
+    }
+    fn largest_abs(&self) -> f64 {
+        self.abs()
+    }
+    fn largest(&self) -> f64 {
+        *self
+    }
+}
+
+/// The patch system seen in one kind of [`Bands`].
+struct BandSystem<'a, V> {
+    rows: &'a [Vec<(u32, f64)>],
+    emission: &'a [V],
+    reflectance: &'a [V],
+}
+
+impl<V: Bands> BandSystem<'_, V> {
+    fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// `E_i + rho_i sum_j F_ij B_j`, as [`PatchSystem::update`].
+    #[inline]
+    fn update(&self, i: usize, b: &[V]) -> V {
+        let mut s = V::ZERO;
+        for &(j, f) in &self.rows[i] {
+            s += b[j as usize] * f;
+        }
+        self.emission[i] + self.reflectance[i] * s
+    }
+}
+
 /// `E + rho F B - B` for every patch.
-fn residuals(system: &PatchSystem, b: &[Rgb], out: &mut Vec<Rgb>) {
+fn residuals<V: Bands>(system: &BandSystem<'_, V>, b: &[V], out: &mut Vec<V>) {
     out.clear();
     out.extend((0..system.len()).map(|i| system.update(i, b) - b[i]));
 }
 
-fn max_abs(r: &[Rgb]) -> f64 {
-    r.iter().map(|x| x.abs().max_band()).fold(0.0, f64::max)
+fn max_abs<V: Bands>(r: &[V]) -> f64 {
+    r.iter().map(Bands::largest_abs).fold(0.0, f64::max)
 }
 
 /// The patch with the largest `rho_i sum_j F_ij` (a NaN counts as largest),
@@ -129,6 +205,52 @@ pub fn gauss_seidel(
     b: &mut [Rgb],
     settings: &SolverSettings,
 ) -> Result<SolveReport> {
+    let q = checked_contraction(system)?;
+    let bands = BandSystem {
+        rows: &system.rows,
+        emission: &system.emission,
+        reflectance: &system.reflectance,
+    };
+    iterate(&bands, q, b, settings)
+}
+
+/// [`gauss_seidel`] for a grey system (every reflectance and emission, and
+/// the start `b`, equal in all three bands): iterates on one band and copies
+/// it into the others. The bands of a grey system are the same independent
+/// system, and one band goes through exactly the operations each band goes
+/// through in [`gauss_seidel`], so the result and the report are the same
+/// bits, for a third of the arithmetic. Fails if the system or `b` is not
+/// grey.
+pub fn gauss_seidel_grey(
+    system: &PatchSystem,
+    b: &mut [Rgb],
+    settings: &SolverSettings,
+) -> Result<SolveReport> {
+    let grey = |v: &[Rgb]| v.iter().all(|x| x.is_grey());
+    if !(grey(&system.emission) && grey(&system.reflectance) && grey(b)) {
+        return Err(Error::Solver(
+            "the one-band solve needs grey reflectances, emissions and start values".into(),
+        ));
+    }
+    let q = checked_contraction(system)?;
+    let band = |v: &[Rgb]| v.iter().map(|x| x.0[0]).collect::<Vec<f64>>();
+    let (emission, reflectance) = (band(&system.emission), band(&system.reflectance));
+    let bands = BandSystem {
+        rows: &system.rows,
+        emission: &emission,
+        reflectance: &reflectance,
+    };
+    let mut one = band(b);
+    let report = iterate(&bands, q, &mut one, settings);
+    for (x, v) in b.iter_mut().zip(one) {
+        *x = Rgb::splat(v);
+    }
+    report
+}
+
+/// The contraction factor, or the error that explains why the system has no
+/// meaningful solution.
+fn checked_contraction(system: &PatchSystem) -> Result<f64> {
     let q = system.contraction();
     if q.is_nan() || q > MAX_CONTRACTION {
         let (patch, rho, sum) = worst_row(system);
@@ -143,6 +265,16 @@ pub fn gauss_seidel(
              reflectances closest to 1"
         )));
     }
+    Ok(q)
+}
+
+/// The iteration itself, on any [`Bands`], with contraction factor `q`.
+fn iterate<V: Bands>(
+    system: &BandSystem<'_, V>,
+    q: f64,
+    b: &mut [V],
+    settings: &SolverSettings,
+) -> Result<SolveReport> {
     let omega = settings.relaxation;
     let mut report = SolveReport {
         contraction: q,
@@ -150,7 +282,7 @@ pub fn gauss_seidel(
     };
     let mut r = Vec::with_capacity(b.len());
     let mut r_next = Vec::with_capacity(b.len());
-    let mut before: Vec<Rgb> = Vec::with_capacity(b.len());
+    let mut before: Vec<V> = Vec::with_capacity(b.len());
     residuals(system, b, &mut r);
     let mut accelerate = true;
     let (mut best, mut since_best) = (f64::INFINITY, 0);
@@ -162,7 +294,7 @@ pub fn gauss_seidel(
             since_best += 1;
             accelerate &= since_best < STALL_SWEEPS;
         }
-        let scale = b.iter().map(|x| x.max_band()).fold(0.0, f64::max);
+        let scale = b.iter().map(Bands::largest).fold(0.0, f64::max);
         report.residual = residual;
         report.error_bound = residual / (1.0 - q);
         if !report.error_bound.is_finite() || !scale.is_finite() {
@@ -206,26 +338,28 @@ pub fn gauss_seidel(
 /// `r_next`) to `b + c (b - before)` with the `c` per band that minimises the
 /// 2-norm of the residual, clamping at 0. Returns false, leaving `b` alone,
 /// when no band has a useful step.
-fn extrapolate(b: &mut [Rgb], before: &[Rgb], r: &[Rgb], r_next: &[Rgb]) -> bool {
+fn extrapolate<V: Bands>(b: &mut [V], before: &[V], r: &[V], r_next: &[V]) -> bool {
+    let bands = V::COUNT;
     let mut num = [0.0; 3];
     let mut den = [0.0; 3];
     for (now, prev) in r_next.iter().zip(r) {
-        for band in 0..3 {
-            let dr = prev[band] - now[band];
-            num[band] += now[band] * dr;
+        for band in 0..bands {
+            let dr = prev.band(band) - now.band(band);
+            num[band] += now.band(band) * dr;
             den[band] += dr * dr;
         }
     }
     let step: [f64; 3] = std::array::from_fn(|band| match num[band] / den[band] {
-        c if c.is_finite() && c > 0.0 && den[band] > 0.0 => c,
+        c if band < bands && c.is_finite() && c > 0.0 && den[band] > 0.0 => c,
         _ => 0.0,
     });
     if step == [0.0; 3] {
         return false;
     }
     for (x, prev) in b.iter_mut().zip(before) {
-        for band in 0..3 {
-            x[band] = (x[band] + step[band] * (x[band] - prev[band])).max(0.0);
+        for (band, c) in step.iter().enumerate().take(bands) {
+            let v = x.band(band);
+            *x.band_mut(band) = (v + c * (v - prev.band(band))).max(0.0);
         }
     }
     true

@@ -15,9 +15,10 @@ mod system;
 
 pub use bounces::{bounced_radiosity, gather_bounces, MAX_BOUNCES};
 pub(crate) use gather::push_up;
-pub use gather::{gather, GatherTotals};
+pub use gather::{gather, gather_with, GatherOptions, GatherTotals};
 pub use gauss_seidel::{
-    gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS, STALL_SWEEPS,
+    gauss_seidel, gauss_seidel_grey, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS,
+    STALL_SWEEPS,
 };
 pub use progressive::{ProgressiveSettings, SolverKind};
 pub use system::PatchSystem;

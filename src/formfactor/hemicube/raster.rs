@@ -23,6 +23,89 @@ pub struct HemicubeStats {
     pub polygons_rasterized: u64,
     /// Pixels written (depth test passed or not).
     pub pixels_tested: u64,
+    /// Faces nothing was drawn into, which were neither read out nor cleared.
+    pub empty_faces: u64,
+    /// Pixels outside the rectangle drawn into on their face (empty faces
+    /// included), which were neither read out nor cleared.
+    pub pixels_skipped: u64,
+    /// Source polygons dropped before projection: on the receiver's own
+    /// surface, wholly behind or on its plane, or seen edge-on.
+    pub polygons_culled: u64,
+    /// Back faces not drawn because front faces of their own closed object
+    /// hide them (see [`crate::formfactor::ClosedObjects`]).
+    pub back_faces_skipped: u64,
+    /// Rows given by the exact unoccluded form factor with no hemi-cube at all
+    /// (a convex enclosure; see [`crate::formfactor::is_convex_enclosure`]).
+    pub exact_rows: u64,
+}
+
+impl HemicubeStats {
+    /// The counters gained since `before` (an earlier copy of these).
+    #[must_use]
+    pub fn since(&self, before: &HemicubeStats) -> HemicubeStats {
+        HemicubeStats {
+            hemicubes: self.hemicubes - before.hemicubes,
+            polygons_rasterized: self.polygons_rasterized - before.polygons_rasterized,
+            pixels_tested: self.pixels_tested - before.pixels_tested,
+            empty_faces: self.empty_faces - before.empty_faces,
+            pixels_skipped: self.pixels_skipped - before.pixels_skipped,
+            polygons_culled: self.polygons_culled - before.polygons_culled,
+            back_faces_skipped: self.back_faces_skipped - before.back_faces_skipped,
+            exact_rows: self.exact_rows - before.exact_rows,
+        }
+    }
+
+    /// Adds every counter of `other`.
+    pub fn add(&mut self, other: &HemicubeStats) {
+        self.hemicubes += other.hemicubes;
+        self.polygons_rasterized += other.polygons_rasterized;
+        self.pixels_tested += other.pixels_tested;
+        self.empty_faces += other.empty_faces;
+        self.pixels_skipped += other.pixels_skipped;
+        self.polygons_culled += other.polygons_culled;
+        self.back_faces_skipped += other.back_faces_skipped;
+        self.exact_rows += other.exact_rows;
+    }
+}
+
+/// The pixel rectangle of one face that polygons were drawn into since it was
+/// last cleared: rows `j0..j1`, columns `i0..i1` (empty when `j0 >= j1`).
+/// Everything outside it still holds nothing, so clearing and reading out the
+/// face can stop at its edges.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Drawn {
+    j0: usize,
+    j1: usize,
+    i0: usize,
+    i1: usize,
+}
+
+impl Drawn {
+    const EMPTY: Drawn = Drawn {
+        j0: usize::MAX,
+        j1: 0,
+        i0: usize::MAX,
+        i1: 0,
+    };
+
+    fn is_empty(&self) -> bool {
+        self.j0 >= self.j1 || self.i0 >= self.i1
+    }
+
+    fn include(&mut self, j0: usize, j1: usize, i0: usize, i1: usize) {
+        self.j0 = self.j0.min(j0);
+        self.j1 = self.j1.max(j1);
+        self.i0 = self.i0.min(i0);
+        self.i1 = self.i1.max(i1);
+    }
+
+    fn pixels(&self) -> usize {
+        if self.is_empty() {
+            0
+        } else {
+            (self.j1 - self.j0) * (self.i1 - self.i0)
+        }
+    }
 }
 
 /// What a hemi-cube saw of one source polygon (see [`Hemicube::coverage`]).
@@ -70,6 +153,12 @@ pub struct Hemicube {
     /// Per-row span limits of the polygon being scan converted.
     span_left: Vec<f64>,
     span_right: Vec<f64>,
+    /// Per face, the rectangle drawn into since the last clear.
+    drawn: [Drawn; 5],
+    /// Clear and read out only the drawn rectangles (true by default); false
+    /// treats every face as wholly drawn, as a check that skipping changes
+    /// nothing.
+    skip_empty: bool,
     /// Work counters.
     pub stats: HemicubeStats,
 }
@@ -94,8 +183,17 @@ impl Hemicube {
             subpixel: Vec::new(),
             span_left: vec![f64::INFINITY; n],
             span_right: vec![f64::NEG_INFINITY; n],
+            drawn: [Drawn::EMPTY; 5],
+            skip_empty: true,
             stats: HemicubeStats::default(),
         }
+    }
+
+    /// Whether clearing and reading out the buffers stops at the rectangle
+    /// of each face that polygons were drawn into (on by default). Either way
+    /// the rows are the same bits; off, every pixel of every face is visited.
+    pub fn set_skip_empty_faces(&mut self, on: bool) {
+        self.skip_empty = on;
     }
 
     /// The form factors from a differential area at `eye` with unit `normal` to
@@ -116,8 +214,46 @@ impl Hemicube {
         method: FormFactorMethod,
         emitter_rays: Option<EmitterVisibility<'_>>,
     ) -> Row {
+        self.row_hiding(
+            sources,
+            None,
+            eye,
+            normal,
+            angle,
+            own_surface,
+            method,
+            emitter_rays,
+        )
+    }
+
+    /// [`Hemicube::row`], not drawing the back faces of the surfaces `s`
+    /// of the sources for which `hidden_back[s]` is true: back faces that
+    /// front faces of their own object hide from `eye`, as
+    /// [`crate::formfactor::ClosedObjects::hidden_from`] finds them. The row
+    /// is then the same but where a back face would have won a silhouette
+    /// pixel from the front face at equal depth.
+    #[allow(clippy::too_many_arguments)]
+    pub fn row_hiding(
+        &mut self,
+        sources: &Sources,
+        hidden_back: Option<&[bool]>,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+        method: FormFactorMethod,
+        emitter_rays: Option<EmitterVisibility<'_>>,
+    ) -> Row {
         let hybrid = method == FormFactorMethod::Hybrid;
-        self.render(sources, eye, normal, angle, own_surface, hybrid);
+        self.render(
+            sources,
+            hidden_back,
+            eye,
+            normal,
+            angle,
+            own_surface,
+            hybrid,
+        );
         let mut row = self.accumulate();
         if hybrid {
             row = self.hybrid(row, sources, eye, normal, own_surface, emitter_rays);
@@ -143,7 +279,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
     ) -> ItemCoverage {
-        self.render(sources, eye, normal, angle, own_surface, false);
+        self.render(sources, None, eye, normal, angle, own_surface, false);
         let back_faces = self.sum_won();
         self.covered_touched.sort_unstable();
         let polygons = self
@@ -170,10 +306,13 @@ impl Hemicube {
     }
 
     /// Fills the item and depth buffers with the front faces of `sources` seen
-    /// from `eye` (and the back faces that hide them), and the coverage sums.
+    /// from `eye` (and the back faces that hide them, unless `hidden_back`
+    /// says their own object hides them), and the coverage sums.
+    #[allow(clippy::too_many_arguments)]
     fn render(
         &mut self,
         sources: &Sources,
+        hidden_back: Option<&[bool]>,
         eye: DVec3,
         normal: DVec3,
         angle: f64,
@@ -198,6 +337,7 @@ impl Hemicube {
         };
         for (id, poly) in sources.polygons.iter().enumerate() {
             if poly.surface == own_surface || (poly.centre - eye).dot(normal) < -poly.radius {
+                self.stats.polygons_culled += 1;
                 continue;
             }
             let count = poly.count as usize;
@@ -210,6 +350,7 @@ impl Hemicube {
                 scale = scale.max(l.length());
             }
             if !above {
+                self.stats.polygons_culled += 1;
                 continue;
             }
             // Plane of the polygon in local coordinates: m . q = h. The receiver
@@ -221,7 +362,12 @@ impl Hemicube {
             );
             let h = m.dot(local[0]);
             if h.abs() <= 1e-12 * scale {
+                self.stats.polygons_culled += 1;
                 continue; // seen edge-on: covers no pixel
+            }
+            if h > 0.0 && hidden_back.is_some_and(|hidden| hidden[poly.surface as usize]) {
+                self.stats.back_faces_skipped += 1;
+                continue;
             }
             let item = if h < 0.0 { id as u32 } else { BACK_FACE };
             let near = 1e-7 * scale;
@@ -408,10 +554,22 @@ impl Hemicube {
         !(s > 0.0 && s < 1.0 - 1e-9)
     }
 
+    /// Empties the item and depth buffers: only the drawn rectangles when
+    /// skipping, since every other pixel still holds nothing.
     fn clear(&mut self) {
+        let n = self.table.n;
         for f in 0..5 {
-            self.items[f].fill(NOTHING);
-            self.depth[f].fill(0.0);
+            let d = std::mem::replace(&mut self.drawn[f], Drawn::EMPTY);
+            if !self.skip_empty {
+                self.items[f].fill(NOTHING);
+                self.depth[f].fill(0.0);
+            } else if !d.is_empty() {
+                for j in d.j0..d.j1 {
+                    let span = j * n + d.i0..j * n + d.i1;
+                    self.items[f][span.clone()].fill(NOTHING);
+                    self.depth[f][span].fill(0.0);
+                }
+            }
         }
         self.subpixel.clear();
         self.stats.hemicubes += 1;
@@ -514,6 +672,7 @@ impl Hemicube {
         };
         let mut covered = 0.0;
         let mut tested = 0u64;
+        let mut drawn = Drawn::EMPTY;
         for j in j0..j1 {
             let (xl, xr) = (
                 std::mem::replace(&mut left[j], f64::INFINITY),
@@ -542,7 +701,11 @@ impl Hemicube {
             if i1 > i0 {
                 tested += (i1 - i0) as u64;
                 covered += prefix[j * (width + 1) + i1] - prefix[j * (width + 1) + i0];
+                drawn.include(j, j + 1, i0, i1);
             }
+        }
+        if !drawn.is_empty() {
+            self.drawn[fi].include(drawn.j0, drawn.j1, drawn.i0, drawn.i1);
         }
         self.stats.pixels_tested += tested;
         if item < BACK_FACE && covered > 0.0 {
@@ -574,20 +737,45 @@ impl Hemicube {
     /// Adds the delta form factor of every won pixel to its polygon's slot of
     /// the accumulator, listing the slots touched. Returns the delta form
     /// factors of the pixels won by back faces.
+    ///
+    /// When skipping, only each face's drawn rectangle is read: the pixels
+    /// outside it hold nothing, and the ones inside are visited in the same
+    /// order as a whole-face pass, so every sum is the same bits.
     fn sum_won(&mut self) -> f64 {
         let table = Arc::clone(&self.table);
+        let n = table.n;
         let mut back = 0.0;
         for f in 0..5 {
             let weights = if f == 0 { &table.top } else { &table.side };
-            for (px, &id) in self.items[f].iter().enumerate() {
-                if id < BACK_FACE {
-                    let slot = &mut self.accumulator[id as usize];
-                    if *slot == 0.0 {
-                        self.touched.push(id);
+            let height = if f == 0 { n } else { n / 2 };
+            let d = if self.skip_empty {
+                let d = self.drawn[f];
+                self.stats.empty_faces += u64::from(d.is_empty());
+                self.stats.pixels_skipped += (n * height - d.pixels()) as u64;
+                d
+            } else {
+                Drawn {
+                    j0: 0,
+                    j1: height,
+                    i0: 0,
+                    i1: n,
+                }
+            };
+            if d.is_empty() {
+                continue;
+            }
+            for j in d.j0..d.j1 {
+                let span = j * n + d.i0..j * n + d.i1;
+                for (&id, &w) in self.items[f][span.clone()].iter().zip(&weights[span]) {
+                    if id < BACK_FACE {
+                        let slot = &mut self.accumulator[id as usize];
+                        if *slot == 0.0 {
+                            self.touched.push(id);
+                        }
+                        *slot += w;
+                    } else if id == BACK_FACE {
+                        back += w;
                     }
-                    *slot += weights[px];
-                } else if id == BACK_FACE {
-                    back += weights[px];
                 }
             }
         }

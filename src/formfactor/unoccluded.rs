@@ -1,0 +1,100 @@
+//! Rows with nothing in the way: the convex enclosure.
+//!
+//! When every vertex of every surface lies on or in front of every surface's
+//! plane, all surfaces lie on the boundary of the convex region those front
+//! half-spaces bound. A segment between two points of that region stays in
+//! it, and meets a surface's plane only at its ends unless it lies in the
+//! plane, where it subtends no solid angle. So no surface hides any part of
+//! another from any point, and an element's row is Lambert's exact
+//! point-to-polygon form factor to every patch off its own surface, with no
+//! hemi-cube at all. Furnaces, the 6-patch cube and empty rooms are such
+//! scenes; anything standing inside a room is not.
+
+use super::{point_to_polygon, Row, Sources};
+use crate::mesh::Mesh;
+use glam::DVec3;
+
+/// How far, relative to the scene's [`scene_scale`], a vertex may lie
+/// behind a plane and still count as on it: a shared edge's vertices read from
+/// single-precision files differ by about `1e-7` of the coordinates. An
+/// occluder thinner than this hides nothing measurable.
+pub const CONVEX_TOLERANCE: f64 = 1e-6;
+
+/// Whether the surfaces of `mesh` form a convex enclosure (or an open part of
+/// one): every vertex of every surface on or in front of every surface's
+/// plane, within [`CONVEX_TOLERANCE`] of the scene's scale plus the plane's
+/// own departure from planarity. Then no element's view is occluded.
+#[must_use]
+pub fn is_convex_enclosure(mesh: &Mesh) -> bool {
+    let scale = scene_scale(mesh);
+    let base = CONVEX_TOLERANCE * scale;
+    // Distinct planes only: a tessellated wall is one plane however many
+    // surfaces it is cut into, so the test costs vertices times planes.
+    let mut planes: Vec<(DVec3, f64, f64)> = Vec::new();
+    for s in &mesh.surfaces {
+        let n = s.normal;
+        let d = n.dot(s.vertices[0]);
+        let warp = s
+            .vertices
+            .iter()
+            .map(|v| (n.dot(*v) - d).abs())
+            .fold(0.0, f64::max);
+        let same = planes
+            .iter_mut()
+            .find(|(m, e, _)| m.dot(n) >= 1.0 - 1e-12 && (e - d).abs() <= base);
+        match same {
+            Some(plane) => plane.2 = plane.2.max(warp),
+            None => planes.push((n, d, warp)),
+        }
+    }
+    mesh.surfaces.iter().all(|s| {
+        s.vertices.iter().all(|v| {
+            planes
+                .iter()
+                .all(|(n, d, warp)| n.dot(*v) - d >= -(base + warp))
+        })
+    })
+}
+
+/// The exact unoccluded row of a differential area at `eye` with unit
+/// `normal`: Lambert's form factor to each polygon of `sources` not on
+/// `own_surface`, clipped to the horizon; zeros are not stored. Only a scene for which
+/// [`is_convex_enclosure`] holds has such rows: elsewhere they ignore
+/// occlusion. As with the hybrid method, a row whose sum would exceed 1 (by
+/// rounding) is scaled back to 1.
+#[must_use]
+pub fn unoccluded_row(sources: &Sources, eye: DVec3, normal: DVec3, own_surface: u32) -> Row {
+    let mut entries: Vec<(u32, f64)> = Vec::new();
+    for (id, poly) in sources.polygons.iter().enumerate() {
+        if poly.surface == own_surface || (poly.centre - eye).dot(normal) < -poly.radius {
+            continue;
+        }
+        let f = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
+        if f > 0.0 {
+            entries.push((id as u32, f));
+        }
+    }
+    let sum: f64 = entries.iter().map(|e| e.1).sum();
+    if sum > 1.0 {
+        for e in &mut entries {
+            e.1 /= sum;
+        }
+    }
+    Row::from_sorted(entries.into_iter().map(|(i, f)| (i, f as f32)).collect())
+}
+
+/// The scene's bounding-box diagonal plus its largest coordinate: the scale
+/// of the rounding error of any coordinate or plane offset.
+#[must_use]
+pub fn scene_scale(mesh: &Mesh) -> f64 {
+    let mut lo = DVec3::INFINITY;
+    let mut hi = DVec3::NEG_INFINITY;
+    for v in mesh.surfaces.iter().flat_map(|s| s.vertices.iter()) {
+        lo = lo.min(*v);
+        hi = hi.max(*v);
+    }
+    if lo.x > hi.x {
+        return 0.0;
+    }
+    (hi - lo).length() + lo.abs().max(hi.abs()).max_element()
+}

@@ -1,0 +1,181 @@
+//! Work a solve leaves out because the scene does not need it, each with a
+//! switch (all on by default) so that tests and measurements can compare the
+//! two paths.
+
+use super::Settings;
+use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
+use crate::formfactor::{
+    is_convex_enclosure, scene_scale, FormFactorMethod, RowSettings, RowSkips,
+};
+use crate::math::Rgb;
+use crate::mesh::{ElementKey, Mesh};
+use std::sync::Arc;
+
+/// Which work a solve may leave out. Each skip gives the answer of the full
+/// work: the same bits for all but `convex`, which gives the exact
+/// unoccluded form factors where the hemi-cube approximates them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Skips {
+    /// Elements of surfaces that reflect nothing (in any band) get no row:
+    /// their radiosity is their emission whatever they receive. The power
+    /// they absorb, which the energy balance needs, is summed from the other
+    /// elements' rows by reciprocity. (A non-reflecting emitter keeps its rows
+    /// when another non-reflecting surface faces it, since nothing else would
+    /// count the power passing between the two.)
+    pub zero_reflectance: bool,
+    /// When every reflectance and emission is grey (equal bands),
+    /// Gauss-Seidel and the gather run on one band and copy it.
+    pub grey: bool,
+    /// When the surfaces form a convex enclosure, nothing occludes anything:
+    /// hybrid rows are Lambert's exact point-to-polygon form factors, with no
+    /// hemi-cube (classic hemi-cube rows are left alone).
+    pub convex: bool,
+    /// Hemi-cubes clear and read out only the rectangle of each face that
+    /// was drawn into, not whole faces.
+    pub empty_faces: bool,
+    /// Hemi-cubes do not draw the back faces of a closed convex object seen
+    /// from outside it, which its front faces always hide. (Where a front and
+    /// a back face meet at the silhouette, rounding no longer lets the back
+    /// face take a pixel from the front one, so rows may differ there.)
+    pub hidden_back_faces: bool,
+}
+
+impl Default for Skips {
+    fn default() -> Self {
+        Skips {
+            zero_reflectance: true,
+            grey: true,
+            convex: true,
+            empty_faces: true,
+            hidden_back_faces: true,
+        }
+    }
+}
+
+impl Skips {
+    /// Every skip off: the full work everywhere.
+    pub const NONE: Skips = Skips {
+        zero_reflectance: false,
+        grey: false,
+        convex: false,
+        empty_faces: false,
+        hidden_back_faces: false,
+    };
+}
+
+/// What the rows of a solve cost and left out, over all passes.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct RowTally {
+    /// Hemi-cube work, and what the hemi-cubes skipped.
+    pub hemicube: HemicubeStats,
+    /// Rows not computed because their surface reflects nothing.
+    pub zero_reflectance_rows: u64,
+}
+
+/// How the rows of a solve are computed, with the skips decided for its
+/// scene once.
+pub(crate) struct RowPlan {
+    /// Settings of every row.
+    pub settings: RowSettings,
+    /// Work the rows leave out.
+    pub skips: RowSkips,
+    /// Per surface, true when its elements get no rows (zero reflectance).
+    rowless_surface: Vec<bool>,
+    /// Per patch, the same (`None` when no surface is rowless).
+    pub rowless_patch: Option<Vec<bool>>,
+    /// Every reflectance and emission is grey and the skip is on.
+    pub grey: bool,
+}
+
+impl RowPlan {
+    /// The plan for `mesh` under `settings`. The patch flags must be brought
+    /// up to date with [`RowPlan::patches_changed`] when patches are split.
+    pub fn new(mesh: &Mesh, settings: &Settings) -> Self {
+        let skips = &settings.skips;
+        let rowless_surface = if skips.zero_reflectance {
+            rowless_surfaces(mesh)
+        } else {
+            vec![false; mesh.surfaces.len()]
+        };
+        let mut plan = RowPlan {
+            settings: RowSettings {
+                table: Arc::new(DeltaTable::new(settings.hemicube_resolution)),
+                seed: settings.seed,
+                method: settings.form_factors,
+                emitter_rays: settings.emitter_rays,
+                emitter_element_mean: settings.emitter_element_mean,
+            },
+            skips: RowSkips {
+                unoccluded: skips.convex
+                    && settings.form_factors == FormFactorMethod::Hybrid
+                    && is_convex_enclosure(mesh),
+                hidden_back_faces: skips.hidden_back_faces,
+                empty_faces: skips.empty_faces,
+            },
+            rowless_surface,
+            rowless_patch: None,
+            grey: skips.grey
+                && mesh
+                    .surfaces
+                    .iter()
+                    .all(|s| s.reflectance.is_grey() && s.emission.is_grey()),
+        };
+        plan.patches_changed(mesh);
+        plan
+    }
+
+    /// Recomputes the per-patch flags after patches were split.
+    pub fn patches_changed(&mut self, mesh: &Mesh) {
+        self.rowless_patch = self.rowless_surface.iter().any(|r| *r).then(|| {
+            mesh.patches
+                .iter()
+                .map(|p| self.rowless_surface[p.surface as usize])
+                .collect()
+        });
+    }
+
+    /// The keys that need rows, and how many were left out.
+    pub fn needing_rows(&self, mesh: &Mesh, keys: &[ElementKey]) -> (Vec<ElementKey>, usize) {
+        let kept: Vec<ElementKey> = keys
+            .iter()
+            .copied()
+            .filter(|k| !self.rowless_surface[mesh.elements[*k].surface as usize])
+            .collect();
+        let left_out = keys.len() - kept.len();
+        (kept, left_out)
+    }
+}
+
+/// Per surface, whether its elements can go without rows: it reflects
+/// nothing, so its radiosity is its emission; and its rows are not needed for
+/// the power some other surface absorbs. Only the rows of elements with a
+/// radiosity, that is of emitters, carry power, and a row to a patch that has
+/// rows is not needed either (that patch counts what it receives itself). So
+/// a non-reflecting emitter keeps its rows if another non-reflecting surface
+/// faces it: each has a vertex in front of the other's plane.
+fn rowless_surfaces(mesh: &Mesh) -> Vec<bool> {
+    let black: Vec<bool> = mesh
+        .surfaces
+        .iter()
+        .map(|s| s.reflectance == Rgb::ZERO)
+        .collect();
+    // "In front" by more than rounding at the scene's scale: a surface in
+    // another's plane is not seen from it.
+    let slack = 1e-9 * scene_scale(mesh);
+    let in_front = |of: usize, plane: usize| {
+        let p = &mesh.surfaces[plane];
+        let offset = p.normal.dot(p.vertices[0]);
+        mesh.surfaces[of]
+            .vertices
+            .iter()
+            .any(|v| p.normal.dot(*v) - offset > slack)
+    };
+    (0..mesh.surfaces.len())
+        .map(|s| {
+            black[s]
+                && (mesh.surfaces[s].emission == Rgb::ZERO
+                    || !(0..mesh.surfaces.len())
+                        .any(|t| t != s && black[t] && in_front(t, s) && in_front(s, t)))
+        })
+        .collect()
+}

@@ -1,0 +1,705 @@
+//! Work a solve skips because the scene does not need it: each skip against
+//! the same solve with that skip off (the same bits where the arithmetic is
+//! the same, within hemi-cube error elsewhere) and, where there is one,
+//! against an exact answer.
+
+use super::common::{closed_box, rel, FaceMaterial};
+use super::stress_scenes::{lit_room_with_box, quick_settings};
+use glam::DVec3;
+use radiosity::analytic::cube::unit_cube_radiosity;
+use radiosity::formfactor::hemicube::{DeltaTable, Hemicube};
+use radiosity::formfactor::{
+    is_convex_enclosure, ClosedObjects, FormFactorMethod, SourcePolygon, Sources,
+};
+use radiosity::math::Rgb;
+use radiosity::mesh::{Cell, Mesh};
+use radiosity::pipeline::Skips;
+use radiosity::refine::RefineSettings;
+use radiosity::scene::{Scene, SceneBuilder};
+use radiosity::solve::{gauss_seidel, gauss_seidel_grey, PatchSystem, SolverSettings};
+use radiosity::{scenes, Settings, Solution};
+use std::collections::HashSet;
+use std::sync::Arc;
+
+fn solve(scene: &Scene, settings: &Settings) -> Solution {
+    radiosity::solve(scene, settings, &|_| {}).unwrap()
+}
+
+/// `settings` with `change` applied to its skips.
+fn with_skips(settings: &Settings, change: impl Fn(&mut Skips)) -> Settings {
+    let mut s = settings.clone();
+    change(&mut s.skips);
+    s
+}
+
+fn uniform(patch_size: f64, depth: u8) -> Settings {
+    Settings {
+        patch_size: Some(patch_size),
+        refine: RefineSettings {
+            uniform_depth: Some(depth),
+            ..RefineSettings::default()
+        },
+        ..Settings::default()
+    }
+}
+
+fn leaf_radiosity_bits(sol: &Solution) -> Vec<u64> {
+    sol.mesh
+        .leaves()
+        .into_iter()
+        .flat_map(|k| sol.mesh.elements[k].radiosity.0.map(f64::to_bits))
+        .collect()
+}
+
+fn patch_radiosity_bits(sol: &Solution) -> Vec<u64> {
+    sol.patch_radiosity
+        .iter()
+        .flat_map(|b| b.0.map(f64::to_bits))
+        .collect()
+}
+
+fn row_bits(sol: &Solution) -> Vec<Vec<(u32, u32)>> {
+    sol.mesh
+        .leaves()
+        .into_iter()
+        .map(|k| {
+            let row = &sol.mesh.elements[k].row;
+            row.entries()
+                .iter()
+                .map(|&(j, f)| (j, f.to_bits()))
+                .collect()
+        })
+        .collect()
+}
+
+/// The same leaves, radiosities, patch radiosities and sweeps, bit for bit.
+fn assert_same_solution(a: &Solution, b: &Solution, what: &str) {
+    assert_eq!(a.stats.elements, b.stats.elements, "{what}: meshes differ");
+    assert!(
+        leaf_radiosity_bits(a) == leaf_radiosity_bits(b),
+        "{what}: leaf radiosities differ"
+    );
+    assert!(
+        patch_radiosity_bits(a) == patch_radiosity_bits(b),
+        "{what}: patch radiosities differ"
+    );
+    assert_eq!(
+        a.stats.total_iterations, b.stats.total_iterations,
+        "{what}: sweeps differ"
+    );
+}
+
+fn surfaces_named(scene: &Scene, object: &str) -> Vec<u32> {
+    let o = scene
+        .objects
+        .iter()
+        .position(|x| x.name == object)
+        .unwrap_or_else(|| panic!("no object {object}"));
+    (0..scene.surfaces.len() as u32)
+        .filter(|&s| scene.surfaces[s as usize].object as usize == o)
+        .collect()
+}
+
+// ---- 1. Receivers that reflect nothing get no rows ----
+
+#[test]
+fn black_receivers_get_no_rows_and_change_no_radiosity() {
+    // The light and the occluder reflect nothing; the floor reflects 0.5.
+    let scene = scenes::by_name("penumbra_parallel").unwrap();
+    let base = Settings {
+        hemicube_resolution: 64,
+        ..Settings::default()
+    };
+    let skipped = solve(&scene, &base);
+    let full = solve(&scene, &with_skips(&base, |s| s.zero_reflectance = false));
+    assert_same_solution(&skipped, &full, "zero-reflectance skip");
+
+    let black: HashSet<u32> = ["light", "occluder"]
+        .iter()
+        .flat_map(|o| surfaces_named(&scene, o))
+        .collect();
+    let mut black_leaves = 0u64;
+    for k in skipped.mesh.leaves() {
+        let (e, f) = (&skipped.mesh.elements[k], &full.mesh.elements[k]);
+        if black.contains(&e.surface) {
+            black_leaves += 1;
+            assert!(e.row.is_empty(), "a black leaf has a row");
+            assert_eq!(
+                e.radiosity,
+                scene
+                    .material_of(&scene.surfaces[e.surface as usize])
+                    .emission
+            );
+        } else {
+            assert_eq!(e.row, f.row, "a reflecting leaf's row changed");
+        }
+    }
+    assert!(black_leaves > 0);
+    assert_eq!(skipped.stats.skips.zero_reflectance_rows, black_leaves);
+    assert_eq!(full.stats.skips.zero_reflectance_rows, 0);
+    assert_eq!(
+        skipped.stats.hemicube.hemicubes + black_leaves,
+        full.stats.hemicube.hemicubes
+    );
+    // The power the black surfaces absorb now comes from the floor's rows by
+    // reciprocity; it agrees with their own rows to within hemi-cube error.
+    for band in 0..3 {
+        let (a, b) = (
+            skipped.stats.energy.absorbed_power[band],
+            full.stats.energy.absorbed_power[band],
+        );
+        assert!(rel(a, b) < 1e-3, "band {band}: absorbed {a} against {b}");
+        assert_eq!(
+            skipped.stats.energy.emitted_power[band],
+            full.stats.energy.emitted_power[band]
+        );
+    }
+}
+
+#[test]
+fn a_black_emitter_facing_a_black_wall_keeps_its_rows_and_the_box_balances() {
+    // A closed box: the ceiling emits and reflects nothing, the x0 wall
+    // reflects nothing, the rest reflect 0.6. The wall absorbs the ceiling's
+    // light directly, which only the ceiling's rows can count.
+    let mut faces = [FaceMaterial::grey(0.6, 0.0); 6];
+    faces[1] = FaceMaterial::grey(0.0, 1.0);
+    faces[4] = FaceMaterial::grey(0.0, 0.0);
+    let scene = closed_box(DVec3::new(1.0, 0.8, 1.2), faces);
+    let base = uniform(0.25, 1);
+    let skipped = solve(&scene, &base);
+    let full = solve(&scene, &with_skips(&base, |s| s.zero_reflectance = false));
+    assert_same_solution(&skipped, &full, "zero-reflectance skip");
+    let (ceiling, wall) = (
+        surfaces_named(&scene, "ceiling"),
+        surfaces_named(&scene, "x0"),
+    );
+    let mut wall_leaves = 0;
+    for k in skipped.mesh.leaves() {
+        let e = &skipped.mesh.elements[k];
+        if ceiling.contains(&e.surface) {
+            assert!(!e.row.is_empty(), "the black emitter lost its rows");
+        }
+        if wall.contains(&e.surface) {
+            assert!(e.row.is_empty(), "the black wall kept its rows");
+            wall_leaves += 1;
+        }
+    }
+    assert_eq!(skipped.stats.skips.zero_reflectance_rows, wall_leaves);
+    // Closed: everything emitted is absorbed, on both paths, up to the
+    // reciprocity error of form factors from element centroids (the wall's
+    // own rows, or everyone else's).
+    for sol in [&skipped, &full] {
+        let d = sol.stats.energy.relative_difference;
+        assert!(d.abs() < 0.005, "energy out of balance by {d}");
+    }
+}
+
+// ---- 2. A grey scene solves one band ----
+
+fn greyed(mut scene: Scene) -> Scene {
+    for m in &mut scene.materials {
+        m.reflectance = Rgb::splat(m.reflectance.mean());
+        m.emission = Rgb::splat(m.emission.mean());
+    }
+    scene
+}
+
+#[test]
+fn a_grey_scene_solved_on_one_band_gives_the_same_bits() {
+    let scene = greyed(lit_room_with_box(1.0, 2.0, 0.01));
+    let base = quick_settings(0.4);
+    let one = solve(&scene, &base);
+    let three = solve(&scene, &with_skips(&base, |s| s.grey = false));
+    assert!(
+        !one.stats.passes.is_empty(),
+        "the test wants refinement passes"
+    );
+    assert_same_solution(&one, &three, "grey skip");
+    assert_eq!(one.stats.solver, three.stats.solver);
+    assert_eq!(
+        one.stats.energy.absorbed_power,
+        three.stats.energy.absorbed_power
+    );
+    assert_eq!(one.stats.skips.grey_solves, 1 + one.stats.passes.len());
+    assert_eq!(three.stats.skips.grey_solves, 0);
+    // A coloured scene is solved on three bands.
+    let coloured = solve(&lit_room_with_box(1.0, 2.0, 0.01), &base);
+    assert_eq!(coloured.stats.skips.grey_solves, 0);
+}
+
+/// A grey system of `n` patches, each seeing 8 others, with row sums 0.995
+/// and reflectance 0.99: nearly singular, so the extrapolation works too.
+fn nearly_singular_grey_system(n: usize) -> PatchSystem {
+    let mut state = 12345u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let rows = (0..n)
+        .map(|i| {
+            let mut js: Vec<u32> = (1..=8).map(|k| ((i + 7 * k) % n) as u32).collect();
+            js.sort_unstable();
+            js.dedup();
+            let w: Vec<f64> = js.iter().map(|_| 0.5 + next()).collect();
+            let total: f64 = w.iter().sum();
+            js.into_iter()
+                .zip(w)
+                .map(|(j, x)| (j, 0.995 * x / total))
+                .collect()
+        })
+        .collect();
+    PatchSystem {
+        rows,
+        reflectance: vec![Rgb::splat(0.99); n],
+        emission: (0..n)
+            .map(|i| Rgb::splat(if i % 5 == 0 { 1.0 + next() } else { 0.0 }))
+            .collect(),
+    }
+}
+
+#[test]
+fn one_band_gauss_seidel_is_three_band_gauss_seidel_bit_for_bit() {
+    let system = nearly_singular_grey_system(200);
+    let settings = SolverSettings::default();
+    let mut three = system.emission.clone();
+    let mut one = system.emission.clone();
+    let a = gauss_seidel(&system, &mut three, &settings).unwrap();
+    let b = gauss_seidel_grey(&system, &mut one, &settings).unwrap();
+    assert!(
+        a.extrapolations > 0,
+        "the test wants the extrapolation used"
+    );
+    assert_eq!(a, b);
+    assert_eq!(
+        three
+            .iter()
+            .map(|x| x.0.map(f64::to_bits))
+            .collect::<Vec<_>>(),
+        one.iter()
+            .map(|x| x.0.map(f64::to_bits))
+            .collect::<Vec<_>>()
+    );
+    // Over-relaxed too.
+    let relaxed = SolverSettings {
+        relaxation: 1.3,
+        ..SolverSettings::default()
+    };
+    let (mut three, mut one) = (system.emission.clone(), system.emission.clone());
+    let a = gauss_seidel(&system, &mut three, &relaxed).unwrap();
+    let b = gauss_seidel_grey(&system, &mut one, &relaxed).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(three, one);
+    // A coloured system is refused.
+    let mut coloured = system;
+    coloured.reflectance[3] = Rgb::new(0.5, 0.6, 0.7);
+    let mut b = coloured.emission.clone();
+    assert!(gauss_seidel_grey(&coloured, &mut b, &settings).is_err());
+}
+
+// ---- 3. Convex enclosures: exact rows, no hemi-cube ----
+
+fn mesh_of(scene: &Scene) -> Mesh {
+    Mesh::new(scene, scene.diameter() / 4.0, 10_000).unwrap()
+}
+
+#[test]
+fn convex_enclosures_are_told_from_scenes_with_occlusion() {
+    let cube = closed_box(DVec3::new(1.0, 0.7, 1.3), [FaceMaterial::grey(0.5, 1.0); 6]);
+    assert!(is_convex_enclosure(&mesh_of(&cube)));
+    // An open part of an enclosure: a floor and a light facing down at it.
+    let mut b = SceneBuilder::new("floor_and_light");
+    let m = b.material("m", Rgb::splat(0.5), Rgb::splat(1.0)).unwrap();
+    b.object("floor");
+    let p = DVec3::new;
+    b.polygon(
+        m,
+        &[p(0., 0., 0.), p(0., 0., 1.), p(1., 0., 1.), p(1., 0., 0.)],
+    )
+    .unwrap();
+    b.object("light");
+    b.polygon(
+        m,
+        &[
+            p(0.2, 1., 0.2),
+            p(0.8, 1., 0.2),
+            p(0.8, 1., 0.8),
+            p(0.2, 1., 0.8),
+        ],
+    )
+    .unwrap();
+    assert!(is_convex_enclosure(&mesh_of(&b.build().unwrap())));
+    // Blocks in a room, an occluder under a light, a box in a room.
+    assert!(!is_convex_enclosure(&mesh_of(&scenes::cornell_box())));
+    let penumbra = scenes::by_name("penumbra_parallel").unwrap();
+    assert!(!is_convex_enclosure(&mesh_of(&penumbra)));
+    assert!(!is_convex_enclosure(&mesh_of(&lit_room_with_box(
+        1.0, 1.0, 0.01
+    ))));
+}
+
+#[test]
+fn six_patch_cube_rows_are_exact_and_agree_with_the_analytic_cube() {
+    for rho in [0.5, 0.8] {
+        let mut faces = [FaceMaterial::grey(rho, 0.0); 6];
+        faces[1] = FaceMaterial::grey(rho, 1.0);
+        let scene = closed_box(DVec3::ONE, faces);
+        // One patch a face, 16 x 16 elements on each.
+        let settings = uniform(1.0, 4);
+        let exact = solve(&scene, &settings);
+        let cubed = solve(&scene, &with_skips(&settings, |s| s.convex = false));
+        assert_eq!(exact.stats.patches, 6);
+        assert_eq!(exact.stats.skips.exact_rows, exact.stats.elements as u64);
+        assert_eq!(exact.stats.hemicube.hemicubes, 0);
+        assert_eq!(cubed.stats.skips.exact_rows, 0);
+        assert_eq!(cubed.stats.hemicube.hemicubes, cubed.stats.elements as u64);
+        // The analytic cube (closed forms of Howell C-11 and C-14).
+        let mut e = [0.0; 6];
+        e[1] = 1.0;
+        let truth = unit_cube_radiosity([rho; 6], e).unwrap();
+        // The cube's faces in `closed_box` order: floor, ceiling, z0, z1, x0,
+        // x1; the analytic order is floor, ceiling, x0, x1, z0, z1.
+        let order = [0, 1, 4, 5, 2, 3];
+        for (face, &t) in order.iter().enumerate() {
+            let (x, h) = (
+                exact.patch_radiosity[face][0],
+                cubed.patch_radiosity[face][0],
+            );
+            // 16 x 16 element centroids integrate the exact area-to-area form
+            // factors by the midpoint rule: 3e-4 at most at this depth.
+            assert!(
+                rel(x, truth[t]) < 5e-4,
+                "rho {rho} face {face}: exact rows {x} vs {}",
+                truth[t]
+            );
+            assert!(
+                rel(h, truth[t]) < 5e-3,
+                "rho {rho} face {face}: hemi-cubes {h} vs {}",
+                truth[t]
+            );
+            // The hybrid hemi-cube is exact for unoccluded patches as well
+            // (each wins every pixel it covers), so the two agree to rounding.
+            assert!(rel(x, h) < 1e-6, "rho {rho} face {face}: {x} vs {h}");
+        }
+    }
+}
+
+#[test]
+fn exact_rows_of_a_furnace_sum_to_one() {
+    // Every face reflects 0.9 and emits 1: B = 1 / (1 - 0.9) = 10 everywhere
+    // when every row sums to 1. The solver's error bound is 1e-5 of the
+    // largest radiosity; a row-sum error d adds d / (1 - 0.9).
+    let scene = closed_box(DVec3::new(1.0, 0.8, 1.2), [FaceMaterial::grey(0.9, 1.0); 6]);
+    let sol = solve(&scene, &uniform(0.3, 1));
+    assert_eq!(sol.stats.skips.exact_rows, sol.stats.elements as u64);
+    for k in sol.mesh.leaves() {
+        let e = &sol.mesh.elements[k];
+        assert!((e.row.sum() - 1.0).abs() < 1e-6, "row sum {}", e.row.sum());
+        assert!(
+            rel(e.radiosity[0], 10.0) < 2e-5,
+            "radiosity {}",
+            e.radiosity[0]
+        );
+    }
+}
+
+// ---- 4. Hemi-cube faces nothing was drawn into ----
+
+fn square_source(centre: DVec3, facing: DVec3, half: f64, surface: u32) -> SourcePolygon {
+    let n = facing.normalize();
+    let t = n.any_orthonormal_vector();
+    let b = n.cross(t);
+    let v = [
+        centre - t * half - b * half,
+        centre + t * half - b * half,
+        centre + t * half + b * half,
+        centre - t * half + b * half,
+    ];
+    SourcePolygon::new(&v, n, surface)
+}
+
+#[test]
+fn hemicube_rows_are_the_same_bits_when_empty_faces_are_skipped() {
+    // A small square straight above, one low on the +x side, one far off on
+    // the -y side, and one below the horizon.
+    let sources = Sources {
+        polygons: vec![
+            square_source(DVec3::new(0.0, 0.0, 2.0), -DVec3::Z, 0.2, 1),
+            square_source(DVec3::new(3.0, 0.2, 0.5), -DVec3::X, 0.4, 2),
+            square_source(DVec3::new(0.3, -4.0, 1.5), DVec3::Y, 1.0, 3),
+            square_source(DVec3::new(0.0, 0.0, -1.0), DVec3::Z, 1.0, 4),
+        ],
+        emitters: Vec::new(),
+    };
+    let table = Arc::new(DeltaTable::new(64));
+    let mut skipping = Hemicube::new(Arc::clone(&table), 4);
+    let mut full = Hemicube::new(table, 4);
+    full.set_skip_empty_faces(false);
+    // Eyes that see different subsets, one after the other in the same
+    // buffers, so that a rectangle left uncleared would show.
+    let eyes = [
+        (DVec3::ZERO, DVec3::Z),
+        (
+            DVec3::new(0.1, 0.1, 0.0),
+            DVec3::new(0.2, 0.0, 1.0).normalize(),
+        ),
+        (DVec3::new(1.0, 0.0, 0.5), DVec3::X),
+        (DVec3::ZERO, DVec3::Z),
+        (DVec3::new(0.0, 0.0, 1.0), -DVec3::Y),
+    ];
+    for method in [FormFactorMethod::Hemicube, FormFactorMethod::Hybrid] {
+        for (i, &(eye, normal)) in eyes.iter().enumerate() {
+            let angle = 0.3 * i as f64;
+            let a = skipping.row(&sources, eye, normal, angle, 0, method, None);
+            let b = full.row(&sources, eye, normal, angle, 0, method, None);
+            let bits = |r: &radiosity::formfactor::Row| {
+                r.entries()
+                    .iter()
+                    .map(|&(j, f)| (j, f.to_bits()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&a), bits(&b), "{method:?} eye {i}");
+        }
+    }
+    assert!(skipping.stats.empty_faces > 0 && skipping.stats.pixels_skipped > 0);
+    assert_eq!((full.stats.empty_faces, full.stats.pixels_skipped), (0, 0));
+    // Looking straight up at the small square only: four side faces empty.
+    let only_above = Sources {
+        polygons: vec![sources.polygons[0].clone()],
+        emitters: Vec::new(),
+    };
+    let mut cube = Hemicube::new(Arc::new(DeltaTable::new(64)), 1);
+    let row = cube.row(
+        &only_above,
+        DVec3::ZERO,
+        DVec3::Z,
+        0.0,
+        0,
+        FormFactorMethod::Hemicube,
+        None,
+    );
+    assert_eq!(row.len(), 1);
+    assert_eq!(cube.stats.empty_faces, 4);
+}
+
+#[test]
+fn an_open_scene_skips_empty_faces_with_the_same_bits() {
+    let scene = scenes::by_name("penumbra_parallel").unwrap();
+    let base = Settings {
+        hemicube_resolution: 64,
+        ..Settings::default()
+    };
+    let skipped = solve(&scene, &base);
+    let full = solve(&scene, &with_skips(&base, |s| s.empty_faces = false));
+    assert_same_solution(&skipped, &full, "empty-face skip");
+    assert!(row_bits(&skipped) == row_bits(&full), "rows differ");
+    assert!(skipped.stats.skips.empty_faces > 0);
+    assert!(skipped.stats.skips.pixels_skipped > 0);
+    assert_eq!(full.stats.skips.pixels_skipped, 0);
+}
+
+// ---- 5. Back faces that front faces always hide ----
+
+#[test]
+fn closed_convex_objects_hide_their_back_faces_only_from_outside() {
+    let scene = scenes::cornell_box();
+    let mesh = mesh_of(&scene);
+    let objects = ClosedObjects::new(&mesh);
+    let mut hidden = Vec::new();
+    let hidden_for = |eye: DVec3, hidden: &mut Vec<bool>, object: &str| {
+        objects.hidden_from(eye, hidden);
+        surfaces_named(&scene, object)
+            .iter()
+            .map(|&s| hidden[s as usize])
+            .collect::<Vec<bool>>()
+    };
+    // From the middle of the room both blocks (open only at the floor) hide
+    // their back faces; no wall, nor the light, ever does.
+    let centre = DVec3::new(0.28, 0.45, 0.28);
+    for block in ["short_block", "tall_block"] {
+        assert!(
+            hidden_for(centre, &mut hidden, block).iter().all(|h| *h),
+            "{block}"
+        );
+    }
+    for other in [
+        "floor",
+        "ceiling",
+        "back_wall",
+        "left_wall",
+        "right_wall",
+        "light",
+    ] {
+        assert!(
+            hidden_for(centre, &mut hidden, other).iter().all(|h| !*h),
+            "{other}"
+        );
+    }
+    // A floor point under the short block is inside it: every back face
+    // counts there (they hide the whole room).
+    let short = surfaces_named(&scene, "short_block");
+    let top = short
+        .iter()
+        .map(|&s| &scene.surfaces[s as usize])
+        .find(|s| s.normal.y > 0.9)
+        .unwrap();
+    let under = top.centroid() * DVec3::new(1.0, 0.0, 1.0) + DVec3::new(0.0, 1e-6, 0.0);
+    assert!(hidden_for(under, &mut hidden, "short_block")
+        .iter()
+        .all(|h| !*h));
+    // Below the floor a ray could enter through the missing bottom.
+    let below = top.centroid() * DVec3::new(1.0, 0.0, 1.0) - DVec3::new(0.2, 0.1, 0.0);
+    assert!(hidden_for(below, &mut hidden, "short_block")
+        .iter()
+        .all(|h| !*h));
+}
+
+#[test]
+fn an_open_box_shows_its_inside_through_the_opening() {
+    let mut b = SceneBuilder::new("open_box");
+    let m = b.material("m", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+    b.axis_box("box", m, DVec3::ZERO, DVec3::ONE).unwrap();
+    let closed = b.build().unwrap();
+    let mut open = closed.clone();
+    open.surfaces.retain(|s| s.normal.y < 0.9);
+    assert_eq!(open.surfaces.len(), 5);
+    let mut hidden = Vec::new();
+    let all_hidden = |scene: &Scene, eye: DVec3, hidden: &mut Vec<bool>| {
+        ClosedObjects::new(&Mesh::new(scene, 1.0, 100).unwrap()).hidden_from(eye, hidden);
+        assert_eq!(hidden.len(), scene.surfaces.len());
+        hidden.iter().all(|h| *h)
+    };
+    let (above, beside, inside) = (
+        DVec3::new(0.5, 2.0, 0.5),
+        DVec3::new(2.0, 0.5, 0.5),
+        DVec3::new(0.5, 0.5, 0.5),
+    );
+    // Closed: hidden from anywhere outside.
+    assert!(all_hidden(&closed, above, &mut hidden));
+    assert!(all_hidden(&closed, beside, &mut hidden));
+    assert!(!hidden.is_empty() && !all_hidden(&closed, inside, &mut hidden));
+    assert!(hidden.iter().all(|h| !*h), "back faces hidden from inside");
+    // Open at the top: from above, the inside shows through the opening.
+    assert!(all_hidden(&open, beside, &mut hidden));
+    all_hidden(&open, above, &mut hidden);
+    assert!(
+        hidden.iter().all(|h| !*h),
+        "back faces hidden through the opening"
+    );
+    all_hidden(&open, inside, &mut hidden);
+    assert!(hidden.iter().all(|h| !*h), "back faces hidden from inside");
+}
+
+#[test]
+fn skipping_hidden_back_faces_keeps_radiosities_and_shut_in_elements() {
+    // A closed box floating in a lit room.
+    let scene = lit_room_with_box(1.0, 2.0, 0.01);
+    let base = quick_settings(0.4);
+    let skipped = solve(&scene, &base);
+    let full = solve(&scene, &with_skips(&base, |s| s.hidden_back_faces = false));
+    assert!(skipped.stats.skips.back_faces_skipped > 0);
+    assert_eq!(full.stats.skips.back_faces_skipped, 0);
+    assert!(skipped.stats.hemicube.pixels_tested < full.stats.hemicube.pixels_tested);
+    // Only silhouette pixels, where a front and a back face meet at equal
+    // depth, can change hands, and the hybrid rows take only the fraction of
+    // a patch's pixels it won from them: object means barely move.
+    let (a, b) = (
+        skipped.object_radiosity(&scene),
+        full.object_radiosity(&scene),
+    );
+    for (x, y) in a.iter().zip(&b) {
+        for band in 0..3 {
+            assert!(
+                rel(x.radiosity[band], y.radiosity[band]) < 1e-5,
+                "{}: {} against {}",
+                x.name,
+                x.radiosity[band],
+                y.radiosity[band]
+            );
+        }
+    }
+}
+
+#[test]
+fn a_floor_under_an_open_block_still_sees_nothing() {
+    // Cornell blocks are open at the floor: floor elements under them see
+    // only back faces, which must still be drawn.
+    let scene = scenes::cornell_box();
+    let base = Settings {
+        hemicube_resolution: 32,
+        ..uniform(0.1, 1)
+    };
+    let skipped = solve(&scene, &base);
+    let full = solve(&scene, &with_skips(&base, |s| s.hidden_back_faces = false));
+    let shut_in = |sol: &Solution| -> Vec<bool> {
+        sol.mesh
+            .leaves()
+            .into_iter()
+            .map(|k| sol.mesh.elements[k].row.is_empty())
+            .collect()
+    };
+    let (a, b) = (shut_in(&skipped), shut_in(&full));
+    assert!(
+        a.iter().filter(|x| **x).count() > 0,
+        "no element under a block"
+    );
+    assert_eq!(a, b, "elements under the blocks changed");
+    assert!(skipped.stats.skips.back_faces_skipped > 0);
+}
+
+// ---- 6. A refinement pass touches only what changed ----
+
+/// Leaves as (surface, cell): the same element across solves.
+fn leaf_cells(sol: &Solution) -> HashSet<(u32, Cell)> {
+    sol.mesh
+        .leaves()
+        .into_iter()
+        .map(|k| {
+            let e = &sol.mesh.elements[k];
+            (e.surface, e.cell)
+        })
+        .collect()
+}
+
+#[test]
+fn refinement_passes_compute_hemicubes_for_new_leaves_only() {
+    let scene = lit_room_with_box(1.0, 2.0, 0.01);
+    let mut base = quick_settings(0.4);
+    base.refine.tolerance = 0.02;
+    base.refine.max_depth = 3;
+    let runs: Vec<Solution> = (0..=2)
+        .map(|passes| {
+            let mut s = base.clone();
+            s.refine.max_passes = passes;
+            solve(&scene, &s)
+        })
+        .collect();
+    assert_eq!(runs[2].stats.passes.len(), 2, "the test wants two passes");
+    // The first solve renders one hemi-cube per leaf.
+    assert_eq!(
+        runs[0].stats.hemicube.hemicubes,
+        runs[0].stats.elements as u64
+    );
+    let mut total = runs[0].stats.hemicube.hemicubes;
+    for pass in 0..2 {
+        let before = leaf_cells(&runs[pass]);
+        let after = leaf_cells(&runs[pass + 1]);
+        let new = after.difference(&before).count();
+        let stats = &runs[2].stats.passes[pass];
+        assert_eq!(stats.new_hemicubes, new, "pass {}", pass + 1);
+        assert!(new < after.len(), "pass {} recomputed everything", pass + 1);
+        total += new as u64;
+    }
+    assert_eq!(runs[2].stats.hemicube.hemicubes, total);
+    // Only patches with new leaves had their rows re-summed, and the patch
+    // system is what a rebuild from every row gives, bit for bit.
+    let last = &runs[2];
+    assert!(last.stats.skips.patch_rows_refreshed > 0);
+    assert!(last.stats.skips.patch_rows_refreshed < 2 * last.stats.patches);
+    let rebuilt = PatchSystem::from_mesh(&last.mesh);
+    assert!(
+        rebuilt.rows == last.system.rows,
+        "refreshed rows differ from a rebuild"
+    );
+}
