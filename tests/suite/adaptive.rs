@@ -156,11 +156,15 @@ fn floor_error(spec: &PenumbraSpec, settings: &Settings) -> (usize, f64) {
 #[test]
 fn adaptive_reaches_uniform_depth_four_with_a_quarter_of_its_elements() {
     let spec = radiosity::scenes::penumbra::penumbra_narrow();
-    let mut uniform = Settings::default();
-    uniform.emitter_element_mean = true;
+    let mut uniform = Settings {
+        emitter_element_mean: true,
+        ..Settings::default()
+    };
     uniform.refine.uniform_depth = Some(4);
-    let mut adaptive = Settings::default();
-    adaptive.emitter_element_mean = true;
+    let mut adaptive = Settings {
+        emitter_element_mean: true,
+        ..Settings::default()
+    };
     adaptive.refine.max_depth = 4;
     let (n_uniform, e_uniform) = floor_error(&spec, &uniform);
     let (n_adaptive, e_adaptive) = floor_error(&spec, &adaptive);
@@ -181,8 +185,10 @@ fn adaptive_reaches_uniform_depth_four_with_a_quarter_of_its_elements() {
 #[test]
 fn element_mean_emitters_match_the_exact_penumbra() {
     let spec = radiosity::scenes::penumbra::penumbra_rotated();
-    let mut settings = Settings::default();
-    settings.emitter_element_mean = true;
+    let mut settings = Settings {
+        emitter_element_mean: true,
+        ..Settings::default()
+    };
     settings.refine.uniform_depth = Some(2);
     let (_, error) = floor_error(&spec, &settings);
     assert!(error < 1e-5, "mean floor error {error:.3e}");
