@@ -162,8 +162,7 @@ pub fn compute_rows_with(
                         Some(_) if settings.emitter_element_mean => {
                             element_samples(&lattice.polygon(&e.cell), lift)
                         }
-                        Some(_) => Samples::from_buf_and_len([(eye, 1.0); 4], 1),
-                        None => Samples::new(),
+                        _ => Samples::new(),
                     };
                     let rays = occluders.as_ref().map(|o| EmitterVisibility {
                         occluders: o,

@@ -24,6 +24,9 @@ const MAX_PIECES: usize = 256;
 /// bound it and the light's plane, in which occluders are projected.
 pub(super) struct Shaft<'a> {
     eye: DVec3,
+    /// The receiver's unit normal: nothing below the eye's tangent plane can
+    /// hide the part of the light above it, which is all that counts.
+    horizon: DVec3,
     light: &'a [DVec3],
     light_normal: DVec3,
     /// Signed distance of the eye from the light's plane (never near 0).
@@ -33,9 +36,15 @@ pub(super) struct Shaft<'a> {
 }
 
 impl<'a> Shaft<'a> {
-    /// The shaft from `eye` to `light`, or `None` when the light is not planar
-    /// or the eye lies (nearly) in its plane, where projection breaks down.
-    pub(super) fn new(eye: DVec3, light: &'a [DVec3], light_normal: DVec3) -> Option<Self> {
+    /// The shaft from `eye` (on a receiver with unit normal `horizon`) to
+    /// `light`, or `None` when the light is not planar or the eye lies (nearly)
+    /// in its plane, where projection breaks down.
+    pub(super) fn new(
+        eye: DVec3,
+        horizon: DVec3,
+        light: &'a [DVec3],
+        light_normal: DVec3,
+    ) -> Option<Self> {
         let size = light
             .iter()
             .map(|v| (*v - light[0]).length())
@@ -67,6 +76,7 @@ impl<'a> Shaft<'a> {
         }
         Some(Shaft {
             eye,
+            horizon,
             light,
             light_normal,
             eye_height,
@@ -82,6 +92,13 @@ impl<'a> Shaft<'a> {
         let margin = 1e-9 * self.eye_height.abs();
         let mut p: Piece =
             clip_to_halfspace(occluder, self.light[0] + toward_eye * margin, toward_eye);
+        if p.len() < 3 {
+            return None;
+        }
+        // Without this, an occluder lying in the receiver's own plane (a
+        // neighbouring surface) keeps a rounding-sized piece beside the eye,
+        // which projects onto the whole light.
+        p = clip_to_halfspace(&p, self.eye, self.horizon);
         if p.len() < 3 {
             return None;
         }
@@ -211,7 +228,7 @@ mod tests {
         // Light [0,1]^2 at z = 2, occluder [0.25,0.5] x [0,0.5] at z = 1:
         // from the origin it hides [0.5,1] x [0,1] of the light.
         let light = square(2.0, 0.0, 0.0, 1.0, 1.0);
-        let shaft = Shaft::new(DVec3::ZERO, &light, DVec3::Z).unwrap();
+        let shaft = Shaft::new(DVec3::ZERO, DVec3::Z, &light, DVec3::Z).unwrap();
         let hole = shaft.shadow_of(&square(1.0, 0.25, 0.0, 0.5, 0.5)).unwrap();
         let mut pieces = vec![Piece::from_slice(&light)];
         assert!(subtract(&mut pieces, &hole, DVec3::Z, 0.0));
@@ -251,7 +268,7 @@ mod tests {
                 .unwrap()
                 .visible_form_factor(eye, DVec3::Z)
                 .unwrap();
-            let shaft = Shaft::new(eye, &light, DVec3::Z).unwrap();
+            let shaft = Shaft::new(eye, DVec3::Z, &light, DVec3::Z).unwrap();
             let mut pieces = vec![Piece::from_slice(&light)];
             if let Some(hole) = shaft.shadow_of(&occluder) {
                 assert!(subtract(&mut pieces, &hole, DVec3::Z, 0.0));

@@ -52,7 +52,9 @@ pub struct EmitterVisibility<'a> {
     pub occluders: &'a Occluders,
     /// Seed of the row's rays.
     pub seed: u64,
-    /// Quadrature points over the receiving element and their weights.
+    /// Quadrature points over the receiving element and their weights; when
+    /// empty, emitter visibility is ray cast at the centre instead of clipped
+    /// exactly at the points.
     pub samples: &'a [(DVec3, f64)],
 }
 
@@ -206,7 +208,7 @@ impl Occluders {
         if full <= 0.0 || poly.normal.dot(eye - light[0]) <= 0.0 {
             return Some(0.0);
         }
-        let shaft = Shaft::new(eye, light, poly.normal)?;
+        let shaft = Shaft::new(eye, normal, light, poly.normal)?;
         let (mut lo, mut hi) = (eye, eye);
         for v in light {
             lo = lo.min(*v);
@@ -259,8 +261,10 @@ impl Occluders {
     }
 
     /// The fraction of the form factor from (`eye`, `normal`) to patch `target`
-    /// that is not blocked: exact where at most a few dozen polygons lie in the
-    /// shaft, else estimated with shadow rays (`seed`, `hint`).
+    /// that is not blocked, estimated with shadow rays (`seed`, `hint`). The
+    /// exact clipping of [`Self::mean_visible_form_factor`] is not used here by
+    /// default yet: it fails two stress tests (needle triangles in a furnace,
+    /// a room at 1e-3 scale) that are still open.
     #[must_use]
     #[allow(clippy::too_many_arguments)]
     pub fn visible_fraction(
@@ -273,10 +277,7 @@ impl Occluders {
         seed: u64,
         hint: PixelHint,
     ) -> f64 {
-        match self.exact_fraction(sources, eye, normal, own_surface, target) {
-            Some(f) => f,
-            None => self.ray_fraction(sources, eye, normal, own_surface, target, seed, hint),
-        }
+        self.ray_fraction(sources, eye, normal, own_surface, target, seed, hint)
     }
 
     /// The ray estimate of [`Self::visible_fraction`]: stratified jittered rays

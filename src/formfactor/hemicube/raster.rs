@@ -457,20 +457,23 @@ impl Hemicube {
                 };
                 // The element's mean form factor where every sample can be
                 // clipped exactly; else the centre's, with ray-cast visibility.
-                let f = occluders
-                    .mean_visible_form_factor(sources, samples, normal, own_surface, j)
-                    .unwrap_or_else(|| {
-                        exact
-                            * occluders.visible_fraction(
-                                sources,
-                                eye,
-                                normal,
-                                own_surface,
-                                j,
-                                seed,
-                                hint,
-                            )
-                    });
+                let exact_mean = if samples.is_empty() {
+                    None
+                } else {
+                    occluders.mean_visible_form_factor(sources, samples, normal, own_surface, j)
+                };
+                let f = exact_mean.unwrap_or_else(|| {
+                    exact
+                        * occluders.visible_fraction(
+                            sources,
+                            eye,
+                            normal,
+                            own_surface,
+                            j,
+                            seed,
+                            hint,
+                        )
+                });
                 match entries.binary_search_by_key(&j, |e| e.0) {
                     Ok(i) => entries[i].1 = f,
                     Err(i) => entries.insert(i, (j, f)),
