@@ -14,6 +14,7 @@ pub use progress::{Progress, Stage};
 pub use progressive::{solve_with_previews, Preview};
 pub use settings::Settings;
 pub use solution::{ObjectRadiosity, Solution};
+pub use stats::MemoryFigures;
 pub use stats::{
     EnergyBalance, HemicubeFigures, PassStats, SolveStats, SourcePassStats, StageSeconds,
 };

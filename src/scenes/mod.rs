@@ -1,10 +1,13 @@
 //! Built-in scenes, built in code with [`SceneBuilder`](crate::scene::SceneBuilder):
-//! the Cornell box, and penumbra scenes that come with their exact answer.
+//! the Cornell box, penumbra scenes that come with their exact answer, and a
+//! scale scene of many boxes.
 
 mod cornell;
+pub mod many_boxes;
 pub mod penumbra;
 
 pub use cornell::cornell_box;
+pub use many_boxes::{many_boxes, many_boxes_with};
 
 use crate::scene::Scene;
 
@@ -17,6 +20,7 @@ pub const NAMES: &[&str] = &[
     "penumbra_two_occluders",
     "penumbra_narrow",
     "penumbra_wide",
+    "many_boxes",
 ];
 
 /// The built-in scene called `name`, if there is one.
@@ -24,6 +28,7 @@ pub const NAMES: &[&str] = &[
 pub fn by_name(name: &str) -> Option<Scene> {
     match name {
         "cornell_box" => Some(cornell_box()),
+        "many_boxes" => Some(many_boxes()),
         // The penumbra specs are fixed and valid, so building them cannot fail.
         _ => penumbra::by_name(name).and_then(|spec| spec.scene().ok()),
     }
@@ -38,7 +43,7 @@ mod tests {
         for name in NAMES {
             assert!(by_name(name).is_some(), "{name}");
         }
-        assert_eq!(NAMES.len(), 1 + penumbra::VARIANTS.len());
+        assert_eq!(NAMES.len(), 2 + penumbra::VARIANTS.len());
         assert!(by_name("no_such_scene").is_none());
     }
 }

@@ -18,6 +18,7 @@ mod probe;
 mod progressive;
 mod random_scenes;
 mod scale;
+mod scale_scene;
 mod stability;
 mod stress_scenes;
 mod substructuring;

@@ -115,7 +115,7 @@ impl Hemicube {
         emitter_rays: Option<(&Occluders, u64)>,
     ) -> Row {
         let hybrid = method == FormFactorMethod::Hybrid;
-        self.render(sources, eye, normal, angle, own_surface, hybrid);
+        self.render::<true>(sources, eye, normal, angle, own_surface, hybrid);
         let mut row = self.accumulate();
         if hybrid {
             row = self.hybrid(row, sources, eye, normal, own_surface, emitter_rays);
@@ -141,7 +141,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
     ) -> ItemCoverage {
-        self.render(sources, eye, normal, angle, own_surface, false);
+        self.render::<true>(sources, eye, normal, angle, own_surface, false);
         let back_faces = self.sum_won();
         self.covered_touched.sort_unstable();
         let polygons = self
@@ -167,9 +167,30 @@ impl Hemicube {
         }
     }
 
+    /// Benchmark hook, not for use: renders like [`Hemicube::row`] with the
+    /// classic method up to the scan conversion (with `FILL` false, polygons
+    /// are transformed, culled, clipped and projected but fill no pixel), so
+    /// that a bench can time the stages apart. Leaves the buffers empty.
+    #[doc(hidden)]
+    pub fn render_stage<const FILL: bool>(
+        &mut self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+    ) {
+        self.render::<FILL>(sources, eye, normal, angle, own_surface, false);
+        for id in self.covered_touched.drain(..) {
+            self.covered[id as usize] = 0.0;
+            self.covered_pixels[id as usize] = 0;
+        }
+    }
+
     /// Fills the item and depth buffers with the front faces of `sources` seen
     /// from `eye` (and the back faces that hide them), and the coverage sums.
-    fn render(
+    /// (`FILL` is false only for [`Hemicube::render_stage`].)
+    fn render<const FILL: bool>(
         &mut self,
         sources: &Sources,
         eye: DVec3,
@@ -224,7 +245,7 @@ impl Hemicube {
             let item = if h < 0.0 { id as u32 } else { BACK_FACE };
             let near = 1e-7 * scale;
             for (fi, face) in Face::ALL.iter().enumerate() {
-                self.rasterize(*face, fi, &local[..count], face.map(m), h, near, item);
+                self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
             }
             if list_subpixel && item != BACK_FACE && self.covered[id] == 0.0 {
                 let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
@@ -400,7 +421,7 @@ impl Hemicube {
     /// projects it, and scan converts it with a depth test on 1/depth (which is
     /// affine in face coordinates for a planar polygon, hence exact).
     #[allow(clippy::too_many_arguments)]
-    fn rasterize(
+    fn rasterize<const FILL: bool>(
         &mut self,
         face: Face,
         fi: usize,
@@ -460,7 +481,7 @@ impl Hemicube {
             });
         let j0 = ceil_index(ymin - 0.5, height);
         let j1 = ceil_index(ymax - 0.5, height);
-        if j0 >= j1 {
+        if j0 >= j1 || !FILL {
             return;
         }
         // Walk every edge once, recording per row the span's left and right ends
