@@ -3,8 +3,10 @@
 //! about 1000 patches.
 
 mod bench_scene;
+mod cpu_clock;
 
 use bench_scene::{prepared_mesh, row_settings, spread_leaves};
+use cpu_clock::iter_cpu;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use radiosity::formfactor::hemicube::{DeltaTable, Hemicube};
 use radiosity::formfactor::{compute_rows, FormFactorMethod};
@@ -19,8 +21,8 @@ fn hemicube_pixels(resolution: usize) -> u64 {
 
 /// One hemi-cube row (item buffer and delta form factors, the classic
 /// pixel-sum method, no ray casting) from each of 16 receivers spread through
-/// the room in turn, at resolutions 64, 128 and 256. Throughput is in
-/// hemi-cube pixels (one thread).
+/// the room in turn, at resolutions 64, 128 and 256. Timed by the thread's
+/// CPU clock; throughput is in hemi-cube pixels per second of one core.
 fn hemicube_row(c: &mut Criterion) {
     let (mesh, sources) = prepared_mesh(0);
     let receivers = spread_leaves(&mesh, 16);
@@ -31,7 +33,7 @@ fn hemicube_row(c: &mut Criterion) {
         let mut cube = Hemicube::new(Arc::new(DeltaTable::new(resolution)), patches);
         let mut next = 0;
         group.bench_function(format!("res{resolution}/{patches}_patches"), |b| {
-            b.iter(|| {
+            iter_cpu(b, || {
                 let e = &mesh.elements[receivers[next % receivers.len()]];
                 next += 1;
                 let normal = mesh.surfaces[e.surface as usize].normal;
@@ -43,7 +45,7 @@ fn hemicube_row(c: &mut Criterion) {
                     e.surface,
                     FormFactorMethod::Hemicube,
                     None,
-                ))
+                ));
             });
         });
     }
@@ -56,7 +58,7 @@ fn hemicube_row(c: &mut Criterion) {
 /// no pixel filled), `fill` (the same plus edge walking and the span fill with
 /// its depth test: the whole item buffer), and `row` (the item buffer plus the
 /// per-patch sums, as [`hemicube_row`]). Differences between them split the
-/// row's time.
+/// row's time. Timed by the thread's CPU clock.
 fn hemicube_stages(c: &mut Criterion) {
     let (mesh, sources) = prepared_mesh(0);
     let empty = radiosity::formfactor::Sources::default();
@@ -69,7 +71,7 @@ fn hemicube_stages(c: &mut Criterion) {
         for stage in ["clear", "project", "fill", "row"] {
             let mut next = 0;
             group.bench_function(format!("res{resolution}/{stage}"), |b| {
-                b.iter(|| {
+                iter_cpu(b, || {
                     let e = &mesh.elements[receivers[next % receivers.len()]];
                     next += 1;
                     let normal = mesh.surfaces[e.surface as usize].normal;

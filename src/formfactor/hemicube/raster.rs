@@ -167,10 +167,11 @@ impl Hemicube {
         }
     }
 
-    /// Benchmark hook, not for use: renders like [`Hemicube::row`] with the
-    /// classic method up to the scan conversion (with `FILL` false, polygons
-    /// are transformed, culled, clipped and projected but fill no pixel), so
-    /// that a bench can time the stages apart. Leaves the buffers empty.
+    /// Benchmark hook, not for use: renders the item buffer as
+    /// [`Hemicube::row`] does with the classic method, but with `FILL` false
+    /// stops each polygon after it is transformed, culled, clipped and
+    /// projected and its rows found (no edge walk, no pixel), so that a bench
+    /// can time the stages apart.
     #[doc(hidden)]
     pub fn render_stage<const FILL: bool>(
         &mut self,
@@ -481,7 +482,12 @@ impl Hemicube {
             });
         let j0 = ceil_index(ymin - 0.5, height);
         let j1 = ceil_index(ymax - 0.5, height);
-        if j0 >= j1 || !FILL {
+        if !FILL {
+            // Keeps the projection above from being optimised away.
+            std::hint::black_box((j0, j1));
+            return;
+        }
+        if j0 >= j1 {
             return;
         }
         // Walk every edge once, recording per row the span's left and right ends
