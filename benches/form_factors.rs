@@ -1,29 +1,39 @@
-//! Form factors: one hemi-cube row at three resolutions, and a parallel set of
-//! rows, in a room of about 1000 patches.
+//! Form factors: one hemi-cube row at three resolutions (whole, and stage by
+//! stage), and a parallel set of rows on one and two threads, in a room of
+//! about 1000 patches.
 
 mod bench_scene;
+mod cpu_clock;
 
 use bench_scene::{prepared_mesh, row_settings, spread_leaves};
-use criterion::{criterion_group, criterion_main, Criterion};
+use cpu_clock::iter_cpu;
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use radiosity::formfactor::hemicube::{DeltaTable, Hemicube};
 use radiosity::formfactor::{compute_rows, FormFactorMethod};
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Duration;
 
+/// Pixels of one hemi-cube at `resolution`: the top face and four half faces.
+fn hemicube_pixels(resolution: usize) -> u64 {
+    (resolution * resolution + 4 * resolution * resolution / 2) as u64
+}
+
 /// One hemi-cube row (item buffer and delta form factors, the classic
 /// pixel-sum method, no ray casting) from each of 16 receivers spread through
-/// the room in turn, at resolutions 64, 128 and 256.
+/// the room in turn, at resolutions 64, 128 and 256. Timed by the thread's
+/// CPU clock; throughput is in hemi-cube pixels per second of one core.
 fn hemicube_row(c: &mut Criterion) {
     let (mesh, sources) = prepared_mesh(0);
     let receivers = spread_leaves(&mesh, 16);
     let patches = mesh.patches.len();
     let mut group = c.benchmark_group("hemicube_row");
     for resolution in [64, 128, 256] {
+        group.throughput(Throughput::Elements(hemicube_pixels(resolution)));
         let mut cube = Hemicube::new(Arc::new(DeltaTable::new(resolution)), patches);
         let mut next = 0;
         group.bench_function(format!("res{resolution}/{patches}_patches"), |b| {
-            b.iter(|| {
+            iter_cpu(b, || {
                 let e = &mesh.elements[receivers[next % receivers.len()]];
                 next += 1;
                 let normal = mesh.surfaces[e.surface as usize].normal;
@@ -35,29 +45,88 @@ fn hemicube_row(c: &mut Criterion) {
                     e.surface,
                     FormFactorMethod::Hemicube,
                     None,
-                ))
+                ));
             });
         });
     }
     group.finish();
 }
 
+/// The stages of one classic hemi-cube row, from the same 16 receivers as
+/// [`hemicube_row`]: `clear` (no polygons: the buffers reset), `project`
+/// (every polygon transformed, culled, clipped and projected onto the faces,
+/// no pixel filled), `fill` (the same plus edge walking and the span fill with
+/// its depth test: the whole item buffer), and `row` (the item buffer plus the
+/// per-patch sums, as [`hemicube_row`]). Differences between them split the
+/// row's time. Timed by the thread's CPU clock.
+fn hemicube_stages(c: &mut Criterion) {
+    let (mesh, sources) = prepared_mesh(0);
+    let empty = radiosity::formfactor::Sources::default();
+    let receivers = spread_leaves(&mesh, 16);
+    let patches = mesh.patches.len();
+    let mut group = c.benchmark_group("hemicube_stages");
+    for resolution in [64, 128, 256] {
+        group.throughput(Throughput::Elements(hemicube_pixels(resolution)));
+        let mut cube = Hemicube::new(Arc::new(DeltaTable::new(resolution)), patches);
+        for stage in ["clear", "project", "fill", "row"] {
+            let mut next = 0;
+            group.bench_function(format!("res{resolution}/{stage}"), |b| {
+                iter_cpu(b, || {
+                    let e = &mesh.elements[receivers[next % receivers.len()]];
+                    next += 1;
+                    let normal = mesh.surfaces[e.surface as usize].normal;
+                    let eye = e.centroid + normal * 1e-6;
+                    match stage {
+                        "clear" => cube.render_stage::<false>(&empty, eye, normal, 0.3, e.surface),
+                        "project" => {
+                            cube.render_stage::<false>(&sources, eye, normal, 0.3, e.surface)
+                        }
+                        "fill" => cube.render_stage::<true>(&sources, eye, normal, 0.3, e.surface),
+                        _ => {
+                            black_box(cube.row(
+                                &sources,
+                                eye,
+                                normal,
+                                0.3,
+                                e.surface,
+                                FormFactorMethod::Hemicube,
+                                None,
+                            ));
+                        }
+                    }
+                });
+            });
+        }
+    }
+    group.finish();
+}
+
 /// `compute_rows` for 256 elements spread through the room: hybrid rows at
-/// resolution 128 with emitter rays (the pipeline's default), on every
-/// worker thread.
+/// resolution 128 with emitter rays (the pipeline's default), on a pool of
+/// one and of two worker threads. Throughput is in rows.
 fn form_factor_rows(c: &mut Criterion) {
     let (mesh, sources) = prepared_mesh(0);
     let keys = spread_leaves(&mesh, 256);
     let settings = row_settings(128);
-    let name = format!(
-        "hybrid_res128/{}_rows/{}_patches",
-        keys.len(),
-        mesh.patches.len()
-    );
-    c.benchmark_group("form_factor_rows")
-        .bench_function(name, |b| {
-            b.iter(|| black_box(compute_rows(&mesh, &sources, &keys, &settings, &|_| {})));
+    let mut group = c.benchmark_group("form_factor_rows");
+    group.throughput(Throughput::Elements(keys.len() as u64));
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a worker pool");
+        let name = format!(
+            "hybrid_res128/{}_rows/{}_patches/{threads}_threads",
+            keys.len(),
+            mesh.patches.len()
+        );
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                pool.install(|| black_box(compute_rows(&mesh, &sources, &keys, &settings, &|_| {})))
+            });
         });
+    }
+    group.finish();
 }
 
 criterion_group! {
@@ -66,6 +135,6 @@ criterion_group! {
         .sample_size(20)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(4));
-    targets = hemicube_row, form_factor_rows
+    targets = hemicube_row, hemicube_stages, form_factor_rows
 }
 criterion_main!(benches);

@@ -6,6 +6,7 @@ mod camera_arg;
 mod compare_cmd;
 mod converge_cmd;
 mod diff_cmd;
+mod peak_memory;
 mod probe_cmd;
 mod progress_bar;
 mod reference_cmd;

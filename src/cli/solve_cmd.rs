@@ -111,6 +111,7 @@ struct Report<'a> {
     passes: &'a [radiosity::pipeline::PassStats],
     #[serde(skip_serializing_if = "Option::is_none")]
     progressive: Option<&'a ProgressiveStats>,
+    memory: Memory<'a>,
     final_max_difference: f64,
     /// `null`: the full solution; N: emitted light and N reflections.
     bounces: Option<u32>,
@@ -121,6 +122,16 @@ struct Report<'a> {
     warnings: &'a [String],
     outputs: Vec<String>,
     surfaces: Vec<ObjectRadiosity>,
+}
+
+/// The library's heap estimate of the mesh, and the process's peak resident
+/// memory (up to writing the JSON, so rendering included; null where the
+/// system does not say).
+#[derive(Serialize)]
+struct Memory<'a> {
+    #[serde(flatten)]
+    mesh: &'a radiosity::pipeline::MemoryFigures,
+    peak_resident_bytes: Option<u64>,
 }
 
 #[derive(Serialize)]
@@ -237,6 +248,10 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         source_passes: &s.source_passes,
         passes: &s.passes,
         progressive: s.progressive.as_ref(),
+        memory: Memory {
+            mesh: &s.memory,
+            peak_resident_bytes: super::peak_memory::peak_resident_bytes(),
+        },
         final_max_difference: s.final_max_difference,
         bounces: s.bounces,
         patch_size: s.patch_size,

@@ -16,6 +16,7 @@ pub use progressive::{solve_with_previews, Preview};
 pub use settings::Settings;
 pub use skips::Skips;
 pub use solution::{ObjectRadiosity, Solution};
+pub use stats::MemoryFigures;
 pub use stats::{
     EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
 };

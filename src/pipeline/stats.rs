@@ -168,6 +168,8 @@ pub struct SolveStats {
     /// (`None` for Gauss-Seidel).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub progressive: Option<crate::solve::progressive::ProgressiveStats>,
+    /// Heap bytes held by the final mesh and patch system (an estimate).
+    pub memory: MemoryFigures,
 }
 
 impl SolveStats {
@@ -209,6 +211,7 @@ impl SolveStats {
             mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,
             max_row_sum: sums.iter().copied().fold(0.0, f64::max),
         };
+        self.memory = MemoryFigures::of(mesh, system);
         self.solver = report;
         self.total_iterations = iterations;
         let e = totals.emitted.0.iter().sum::<f64>();
@@ -220,5 +223,111 @@ impl SolveStats {
             truncated: settings.bounces.is_some(),
         };
         self.bounces = settings.bounces;
+    }
+}
+
+/// Heap bytes held by a mesh and its patch system, estimated from the
+/// capacities of their containers and the sizes of their types (`size_of`):
+/// what the allocator was asked for, without its own overhead. Every element
+/// node (interior ones too) counts, but only leaves hold rows.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct MemoryFigures {
+    /// The element arena: one slot per allocated element node (capacity plus
+    /// the arena's reserved slot), each `size_of::<Element>()` plus the
+    /// arena's 32-bit version, padded to the element's alignment. Children
+    /// (up to four keys) and the row's header are inside the element.
+    pub element_arena_bytes: usize,
+    /// The leaves' form-factor rows: 8 bytes per stored entry (a 32-bit patch
+    /// id and a single-precision factor), allocated exactly.
+    pub row_bytes: usize,
+    /// Stored row entries over all elements.
+    pub row_entries: usize,
+    /// Patches: `size_of::<Patch>()` per slot of capacity, plus the polygons
+    /// of more than four vertices that left their inline storage.
+    pub patch_bytes: usize,
+    /// Surface lattices (the surfaces' vertices and patch cuts, with the
+    /// triangle cuts' cell maps at one control byte per entry) and the
+    /// quadtree roots.
+    pub lattice_bytes: usize,
+    /// The sum of the four figures above.
+    pub mesh_bytes: usize,
+    /// The patch system: double-precision patch rows (16 bytes per entry),
+    /// reflectances and emissions.
+    pub system_bytes: usize,
+    /// `mesh_bytes` over leaf elements (0 with none).
+    pub mesh_bytes_per_element: f64,
+    /// `row_bytes` over leaf elements (0 with none).
+    pub row_bytes_per_element: f64,
+}
+
+impl MemoryFigures {
+    /// The figures of `mesh` and `system` as they stand.
+    #[must_use]
+    pub fn of(mesh: &Mesh, system: &PatchSystem) -> Self {
+        use crate::mesh::{Element, Patch, PatchGrid, SurfaceLattice};
+        use std::mem::{align_of, size_of};
+        let slot = (size_of::<Element>() + 4).next_multiple_of(align_of::<Element>().max(4));
+        let element_arena_bytes = (mesh.elements.capacity() + 1) * slot;
+        let (mut row_bytes, mut row_entries, mut leaves) = (0, 0, 0usize);
+        for e in mesh.elements.values() {
+            row_bytes += e.row.heap_bytes();
+            row_entries += e.row.len();
+            leaves += usize::from(e.is_leaf());
+        }
+        let vertex = size_of::<glam::DVec3>();
+        let patch_bytes = mesh.patches.capacity() * size_of::<Patch>()
+            + mesh
+                .patches
+                .iter()
+                .filter(|p| p.polygon.spilled())
+                .map(|p| p.polygon.capacity() * vertex)
+                .sum::<usize>();
+        let lattice_bytes = mesh.surfaces.capacity() * size_of::<SurfaceLattice>()
+            + mesh
+                .surfaces
+                .iter()
+                .map(|s| {
+                    let spilled = if s.vertices.spilled() {
+                        s.vertices.capacity() * vertex
+                    } else {
+                        0
+                    };
+                    let cells = match &s.grid {
+                        PatchGrid::Tri { cells, .. } => {
+                            cells.capacity() * (size_of::<(crate::mesh::Cell, u32)>() + 1)
+                        }
+                        PatchGrid::Quad { .. } => 0,
+                    };
+                    spilled + cells
+                })
+                .sum::<usize>()
+            + mesh.top_roots.capacity() * size_of::<crate::mesh::ElementKey>();
+        let mesh_bytes = element_arena_bytes + row_bytes + patch_bytes + lattice_bytes;
+        let rgb = size_of::<Rgb>();
+        let system_bytes = system.rows.capacity() * size_of::<Vec<(u32, f64)>>()
+            + system
+                .rows
+                .iter()
+                .map(|r| r.capacity() * size_of::<(u32, f64)>())
+                .sum::<usize>()
+            + (system.reflectance.capacity() + system.emission.capacity()) * rgb;
+        let per = |bytes: usize| {
+            if leaves == 0 {
+                0.0
+            } else {
+                bytes as f64 / leaves as f64
+            }
+        };
+        MemoryFigures {
+            element_arena_bytes,
+            row_bytes,
+            row_entries,
+            patch_bytes,
+            lattice_bytes,
+            mesh_bytes,
+            system_bytes,
+            mesh_bytes_per_element: per(mesh_bytes),
+            row_bytes_per_element: per(row_bytes),
+        }
     }
 }

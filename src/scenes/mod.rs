@@ -1,13 +1,16 @@
 //! Built-in scenes, built in code with [`SceneBuilder`](crate::scene::SceneBuilder):
 //! the Cornell box, penumbra scenes that come with their exact answer, and a
-//! model of the Ferren sculpture from the seed paper's example.
+//! model of the Ferren sculpture from the seed paper's example, and a
+//! scale scene of many boxes.
 
 mod cornell;
 pub mod ferren;
+pub mod many_boxes;
 pub mod penumbra;
 
 pub use cornell::cornell_box;
 pub use ferren::ferren_sculpture;
+pub use many_boxes::{many_boxes, many_boxes_with};
 
 use crate::scene::Scene;
 
@@ -21,6 +24,7 @@ pub const NAMES: &[&str] = &[
     "penumbra_narrow",
     "penumbra_wide",
     "ferren_sculpture",
+    "many_boxes",
 ];
 
 /// The built-in scene called `name`, if there is one.
@@ -29,6 +33,7 @@ pub fn by_name(name: &str) -> Option<Scene> {
     match name {
         "cornell_box" => Some(cornell_box()),
         "ferren_sculpture" => Some(ferren_sculpture()),
+        "many_boxes" => Some(many_boxes()),
         // The penumbra specs are fixed and valid, so building them cannot fail.
         _ => penumbra::by_name(name).and_then(|spec| spec.scene().ok()),
     }
@@ -43,7 +48,7 @@ mod tests {
         for name in NAMES {
             assert!(by_name(name).is_some(), "{name}");
         }
-        assert_eq!(NAMES.len(), 2 + penumbra::VARIANTS.len());
+        assert_eq!(NAMES.len(), 3 + penumbra::VARIANTS.len());
         assert!(by_name("no_such_scene").is_none());
     }
 }

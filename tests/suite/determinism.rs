@@ -85,12 +85,13 @@ fn run_cli(scene: &Path, threads: usize, out: &Path) {
 }
 
 /// The stats JSON without what may differ between runs: timings, the thread
-/// count, and the output paths (which name the output folder).
+/// count, the output paths (which name the output folder) and the process's
+/// peak memory.
 fn stable_json(path: &Path) -> Value {
     fn strip(v: &mut Value) {
         match v {
             Value::Object(map) => {
-                for key in ["seconds", "threads", "outputs"] {
+                for key in ["seconds", "threads", "outputs", "peak_resident_bytes"] {
                     map.remove(key);
                 }
                 map.values_mut().for_each(strip);

@@ -19,6 +19,7 @@ mod probe;
 mod progressive;
 mod random_scenes;
 mod scale;
+mod scale_scene;
 mod skips;
 mod stability;
 mod stress_scenes;

@@ -245,7 +245,7 @@ impl Hemicube {
         emitter_rays: Option<EmitterVisibility<'_>>,
     ) -> Row {
         let hybrid = method == FormFactorMethod::Hybrid;
-        self.render(
+        self.render::<true>(
             sources,
             hidden_back,
             eye,
@@ -279,7 +279,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
     ) -> ItemCoverage {
-        self.render(sources, None, eye, normal, angle, own_surface, false);
+        self.render::<true>(sources, None, eye, normal, angle, own_surface, false);
         let back_faces = self.sum_won();
         self.covered_touched.sort_unstable();
         let polygons = self
@@ -305,11 +305,33 @@ impl Hemicube {
         }
     }
 
+    /// Benchmark hook, not for use: renders the item buffer as
+    /// [`Hemicube::row`] does with the classic method, but with `FILL` false
+    /// stops each polygon after it is transformed, culled, clipped and
+    /// projected and its rows found (no edge walk, no pixel), so that a bench
+    /// can time the stages apart.
+    #[doc(hidden)]
+    pub fn render_stage<const FILL: bool>(
+        &mut self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+    ) {
+        self.render::<FILL>(sources, None, eye, normal, angle, own_surface, false);
+        for id in self.covered_touched.drain(..) {
+            self.covered[id as usize] = 0.0;
+            self.covered_pixels[id as usize] = 0;
+        }
+    }
+
     /// Fills the item and depth buffers with the front faces of `sources` seen
     /// from `eye` (and the back faces that hide them, unless `hidden_back`
-    /// says their own object hides them), and the coverage sums.
+    /// says their own object hides them), and the coverage sums. (`FILL` is
+    /// false only for [`Hemicube::render_stage`].)
     #[allow(clippy::too_many_arguments)]
-    fn render(
+    fn render<const FILL: bool>(
         &mut self,
         sources: &Sources,
         hidden_back: Option<&[bool]>,
@@ -372,7 +394,7 @@ impl Hemicube {
             let item = if h < 0.0 { id as u32 } else { BACK_FACE };
             let near = 1e-7 * scale;
             for (fi, face) in Face::ALL.iter().enumerate() {
-                self.rasterize(*face, fi, &local[..count], face.map(m), h, near, item);
+                self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
             }
             if list_subpixel && item != BACK_FACE && self.covered[id] == 0.0 {
                 let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
@@ -582,7 +604,7 @@ impl Hemicube {
     /// projects it, and scan converts it with a depth test on 1/depth (which is
     /// affine in face coordinates for a planar polygon, hence exact).
     #[allow(clippy::too_many_arguments)]
-    fn rasterize(
+    fn rasterize<const FILL: bool>(
         &mut self,
         face: Face,
         fi: usize,
@@ -642,6 +664,11 @@ impl Hemicube {
             });
         let j0 = ceil_index(ymin - 0.5, height);
         let j1 = ceil_index(ymax - 0.5, height);
+        if !FILL {
+            // Keeps the projection above from being optimised away.
+            std::hint::black_box((j0, j1));
+            return;
+        }
         if j0 >= j1 {
             return;
         }

@@ -1,0 +1,48 @@
+//! The process's peak resident memory, for the stats JSON.
+
+/// The most memory the process has held resident so far, in bytes: Linux's
+/// high-water mark `VmHWM` from `/proc/self/status` (the figure
+/// `getrusage`'s `ru_maxrss` gives). `None` on other systems or if the file
+/// cannot be read.
+pub fn peak_resident_bytes() -> Option<u64> {
+    if !cfg!(target_os = "linux") {
+        return None;
+    }
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_vm_hwm(&status)
+}
+
+/// `VmHWM` in bytes from the text of `/proc/self/status` (given in kB, which
+/// the kernel means as KiB).
+fn parse_vm_hwm(status: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let mut words = line["VmHWM:".len()..].split_whitespace();
+    let value: u64 = words.next()?.parse().ok()?;
+    match words.next() {
+        Some("kB") => value.checked_mul(1024),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_the_high_water_mark_in_kib() {
+        let status = "Name:\tradiosity\nVmPeak:\t  900 kB\nVmHWM:\t   12345 kB\nVmRSS:\t 10 kB\n";
+        assert_eq!(parse_vm_hwm(status), Some(12345 * 1024));
+        assert_eq!(parse_vm_hwm("VmRSS:\t 10 kB\n"), None);
+        assert_eq!(parse_vm_hwm("VmHWM:\t 10 MB\n"), None);
+    }
+
+    #[test]
+    fn a_linux_process_has_a_peak() {
+        if cfg!(target_os = "linux") {
+            // At least the bytes of a buffer this test keeps resident.
+            let held = std::hint::black_box(vec![1u8; 8 << 20]);
+            let peak = peak_resident_bytes().unwrap();
+            assert!(peak >= held.len() as u64, "{peak}");
+        }
+    }
+}
