@@ -98,7 +98,7 @@ pub fn row_settings(resolution: usize) -> RowSettings {
         seed: 1,
         method: FormFactorMethod::Hybrid,
         emitter_rays: true,
-        emitter_element_mean: false,
+        emitter_sampling: radiosity::formfactor::EmitterSampling::Centre,
     }
 }
 

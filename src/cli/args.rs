@@ -198,10 +198,11 @@ pub struct SolveSettingsArgs {
     /// Shadow rays for emitters a hemi-cube saw only in part (hybrid only).
     #[arg(long = "emitter-rays", default_value = "on", value_parser = ["on", "off"])]
     pub emitter_rays: String,
-    /// Emitter form factors as the receiving element's mean over Gauss points
-    /// (element) or its centre's value (centre); hybrid with emitter rays only.
-    #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "element"])]
-    pub emitter_samples: String,
+    /// Emitter visibility (hybrid with emitter rays only): exact clipping at the
+    /// element's centre (centre), exact and averaged over Gauss points of the
+    /// element (element), or shadow rays from the centre (rays).
+    #[arg(long = "emitter-samples", default_value = "centre")]
+    pub emitter_samples: radiosity::formfactor::EmitterSampling,
     /// Largest patch edge in metres [default: the scene's diagonal / 10].
     #[arg(long = "patch-size")]
     pub patch_size: Option<f64>,

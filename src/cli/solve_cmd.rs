@@ -47,7 +47,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
         hemicube_resolution: a.hemicube_res,
         form_factors: a.form_factors,
         emitter_rays: a.emitter_rays == "on",
-        emitter_element_mean: a.emitter_samples == "element",
+        emitter_sampling: a.emitter_samples,
         patch_size: a.patch_size,
         seed: a.seed,
         solver: SolverSettings {

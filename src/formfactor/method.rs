@@ -29,3 +29,34 @@ impl FromStr for FormFactorMethod {
         }
     }
 }
+
+/// How the hybrid method decides what a receiver sees of an emitter patch
+/// (with `emitter_rays` on).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum EmitterSampling {
+    /// Shadow rays from the element's centre (stratified, jittered): the
+    /// estimate of earlier versions, kept for comparison.
+    Rays,
+    /// Exact visibility at the element's centre: the occluders in the shaft
+    /// are clipped out of the emitter (rays only where more than a few dozen
+    /// polygons lie in the shaft).
+    #[default]
+    Centre,
+    /// The exact visible form factor averaged over Gauss points of the
+    /// element: its mean rather than its centre's value.
+    Element,
+}
+
+impl FromStr for EmitterSampling {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "rays" => Ok(EmitterSampling::Rays),
+            "centre" => Ok(EmitterSampling::Centre),
+            "element" => Ok(EmitterSampling::Element),
+            _ => Err(format!(
+                "unknown emitter sampling '{s}' (rays, centre or element)"
+            )),
+        }
+    }
+}

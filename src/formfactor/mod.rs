@@ -14,7 +14,7 @@ mod unoccluded;
 mod visibility;
 
 pub use backfaces::{ClosedObjects, MAX_OBJECT_SURFACES};
-pub use method::FormFactorMethod;
+pub use method::{EmitterSampling, FormFactorMethod};
 pub use point_polygon::point_to_polygon;
 pub use quadrature::{element_samples, Samples};
 pub use row::Row;

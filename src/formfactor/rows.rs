@@ -2,8 +2,8 @@
 
 use super::hemicube::{DeltaTable, Hemicube, HemicubeStats};
 use super::{
-    element_samples, unoccluded_row, ClosedObjects, EmitterVisibility, Occluders, Row, Samples,
-    Sources,
+    element_samples, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility, Occluders,
+    Row, Samples, Sources,
 };
 use crate::mesh::{Cell, ElementKey, Mesh};
 use rayon::prelude::*;
@@ -22,9 +22,8 @@ pub struct RowSettings {
     /// Ray cast the visibility of emitters the item buffer saw only in part
     /// (hybrid method only).
     pub emitter_rays: bool,
-    /// Make an emitter's entry the receiving element's mean form factor (Gauss
-    /// points over the element) rather than its centre's.
-    pub emitter_element_mean: bool,
+    /// How emitter visibility is found.
+    pub emitter_sampling: super::EmitterSampling,
 }
 
 /// A well-mixed 64-bit hash (SplitMix64 finaliser).
@@ -159,10 +158,16 @@ pub fn compute_rows_with(
                     let before = cube.stats;
                     let lift = lattice.normal * (1e-6 * e.area.sqrt());
                     let samples = match &occluders {
-                        Some(_) if settings.emitter_element_mean => {
-                            element_samples(&lattice.polygon(&e.cell), lift)
-                        }
-                        _ => Samples::new(),
+                        Some(_) => match settings.emitter_sampling {
+                            EmitterSampling::Element => {
+                                element_samples(&lattice.polygon(&e.cell), lift)
+                            }
+                            EmitterSampling::Centre => {
+                                Samples::from_buf_and_len([(eye, 1.0); 4], 1)
+                            }
+                            EmitterSampling::Rays => Samples::new(),
+                        },
+                        None => Samples::new(),
                     };
                     let rays = occluders.as_ref().map(|o| EmitterVisibility {
                         occluders: o,

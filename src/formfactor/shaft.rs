@@ -156,11 +156,22 @@ pub(super) fn subtract(
     min_area: f64,
 ) -> bool {
     let m = hole.len();
+    // A hole below the sliver size hides nothing worth its rounding: its edge
+    // directions are noise, and cutting along them could remove anything.
+    if area(hole) <= min_area {
+        return true;
+    }
     let centroid = hole.iter().copied().sum::<DVec3>() / m as f64;
-    // Edge planes perpendicular to the light's plane, normals pointing out of the hole.
+    let perimeter: f64 = (0..m).map(|i| (hole[(i + 1) % m] - hole[i]).length()).sum();
+    // Edge planes perpendicular to the light's plane, normals pointing out of
+    // the hole. Rounding-length edges are left out: leaving one out only
+    // shrinks the cut to the other edges' wedge, which still holds the hole.
     let mut outward: SmallVec<[(DVec3, DVec3); 8]> = SmallVec::new();
     for i in 0..m {
         let (a, b) = (hole[i], hole[(i + 1) % m]);
+        if (b - a).length() <= 1e-9 * perimeter {
+            continue;
+        }
         let n = (b - a).cross(normal);
         let len = n.length();
         if len <= 0.0 {
@@ -168,6 +179,9 @@ pub(super) fn subtract(
         }
         let n = n / len;
         outward.push((a, if n.dot(a - centroid) >= 0.0 { n } else { -n }));
+    }
+    if outward.len() < 3 {
+        return true;
     }
     let mut out = Vec::with_capacity(pieces.len() + 4);
     for piece in pieces.drain(..) {

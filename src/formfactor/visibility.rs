@@ -261,10 +261,9 @@ impl Occluders {
     }
 
     /// The fraction of the form factor from (`eye`, `normal`) to patch `target`
-    /// that is not blocked, estimated with shadow rays (`seed`, `hint`). The
-    /// exact clipping of [`Self::mean_visible_form_factor`] is not used here by
-    /// default yet: it fails two stress tests (needle triangles in a furnace,
-    /// a room at 1e-3 scale) that are still open.
+    /// that is not blocked, estimated with shadow rays (`seed`, `hint`): the
+    /// fallback of [`Self::mean_visible_form_factor`] and what
+    /// [`super::EmitterSampling::Rays`] uses.
     #[must_use]
     #[allow(clippy::too_many_arguments)]
     pub fn visible_fraction(

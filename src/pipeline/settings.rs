@@ -2,7 +2,7 @@
 
 use super::Skips;
 use crate::error::{Error, Result};
-use crate::formfactor::FormFactorMethod;
+use crate::formfactor::{EmitterSampling, FormFactorMethod};
 use crate::refine::RefineSettings;
 use crate::scene::Scene;
 use crate::solve::{ProgressiveSettings, SolverKind, SolverSettings};
@@ -21,9 +21,8 @@ pub struct Settings {
     /// Ray cast the visibility of emitters that a hemi-cube saw only in part,
     /// so that penumbrae are not limited to the hemi-cube's pixels.
     pub emitter_rays: bool,
-    /// Make each emitter's form factor the receiving element's mean (over Gauss
-    /// points) instead of its centre's value (hybrid with emitter rays only).
-    pub emitter_element_mean: bool,
+    /// How emitter visibility is found (hybrid with emitter rays only).
+    pub emitter_sampling: EmitterSampling,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
     /// Gathering (Gauss-Seidel) or shooting (progressive refinement).
@@ -52,7 +51,7 @@ impl Default for Settings {
             seed: 1,
             form_factors: FormFactorMethod::default(),
             emitter_rays: true,
-            emitter_element_mean: false,
+            emitter_sampling: EmitterSampling::default(),
             solver: SolverSettings::default(),
             solver_kind: SolverKind::default(),
             progressive: ProgressiveSettings::default(),

@@ -103,7 +103,7 @@ impl RowPlan {
                 seed: settings.seed,
                 method: settings.form_factors,
                 emitter_rays: settings.emitter_rays,
-                emitter_element_mean: settings.emitter_element_mean,
+                emitter_sampling: settings.emitter_sampling,
             },
             skips: RowSkips {
                 unoccluded: skips.convex

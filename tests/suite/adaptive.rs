@@ -157,12 +157,12 @@ fn floor_error(spec: &PenumbraSpec, settings: &Settings) -> (usize, f64) {
 fn adaptive_reaches_uniform_depth_four_with_a_quarter_of_its_elements() {
     let spec = radiosity::scenes::penumbra::penumbra_narrow();
     let mut uniform = Settings {
-        emitter_element_mean: true,
+        emitter_sampling: radiosity::formfactor::EmitterSampling::Element,
         ..Settings::default()
     };
     uniform.refine.uniform_depth = Some(4);
     let mut adaptive = Settings {
-        emitter_element_mean: true,
+        emitter_sampling: radiosity::formfactor::EmitterSampling::Element,
         ..Settings::default()
     };
     adaptive.refine.max_depth = 4;
@@ -186,7 +186,7 @@ fn adaptive_reaches_uniform_depth_four_with_a_quarter_of_its_elements() {
 fn element_mean_emitters_match_the_exact_penumbra() {
     let spec = radiosity::scenes::penumbra::penumbra_rotated();
     let mut settings = Settings {
-        emitter_element_mean: true,
+        emitter_sampling: radiosity::formfactor::EmitterSampling::Element,
         ..Settings::default()
     };
     settings.refine.uniform_depth = Some(2);

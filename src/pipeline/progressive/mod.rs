@@ -93,7 +93,7 @@ pub(crate) fn solve_progressive(
             seed: settings.seed,
             method: settings.form_factors,
             emitter_rays: settings.emitter_rays,
-            emitter_element_mean: settings.emitter_element_mean,
+            emitter_sampling: settings.emitter_sampling,
         },
         min_area: refine
             .min_element_area
