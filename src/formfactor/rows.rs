@@ -140,7 +140,8 @@ pub fn compute_rows_with(
                 let angle = (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
                 // Lift the eye off the surface by a distance relative to the
                 // element's own size, so that the offset is scale invariant.
-                let eye = e.centroid + lattice.normal * (1e-6 * e.area.sqrt());
+                let lift = lattice.normal * (1e-6 * e.area.sqrt());
+                let eye = e.centroid + lift;
                 let (row, stats) = if exact {
                     let stats = HemicubeStats {
                         exact_rows: 1,
@@ -156,7 +157,6 @@ pub fn compute_rows_with(
                         hidden.as_slice()
                     });
                     let before = cube.stats;
-                    let lift = lattice.normal * (1e-6 * e.area.sqrt());
                     let samples = match &occluders {
                         Some(_) => match settings.emitter_sampling {
                             EmitterSampling::Element => {

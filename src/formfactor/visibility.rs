@@ -177,23 +177,18 @@ impl Occluders {
         own_surface: u32,
         target: u32,
     ) -> Option<f64> {
-        let poly = &sources.polygons[target as usize];
-        let light = &poly.vertices[..poly.count as usize];
         let mut sum = 0.0;
         for &(point, weight) in samples {
-            let fraction = self.exact_fraction(sources, point, normal, own_surface, target)?;
-            if fraction > 0.0 {
-                sum += weight * fraction * point_to_polygon(point, normal, light);
-            }
+            sum += weight * self.exact_visible(sources, point, normal, own_surface, target)?;
         }
         Some(sum)
     }
 
-    /// The exact fraction of the form factor from (`eye`, `normal`) to patch
+    /// The exact form factor from (`eye`, `normal`) to the part of patch
     /// `target` that no polygon blocks, by cutting the shadows of the polygons
     /// in the shaft out of the target; `None` when the shaft holds too many of
     /// them or the geometry is degenerate for projection (the rays decide then).
-    fn exact_fraction(
+    fn exact_visible(
         &self,
         sources: &Sources,
         eye: DVec3,
@@ -243,7 +238,7 @@ impl Occluders {
             return None;
         }
         if shadows.is_empty() {
-            return Some(1.0);
+            return Some(full);
         }
         // The BVH's traversal order is fixed by its build, so the pieces (and
         // the sum over them) come out the same on every run.
@@ -257,35 +252,21 @@ impl Occluders {
                 return Some(0.0);
             }
         }
-        Some((pieces_form_factor(eye, normal, &pieces) / full).clamp(0.0, 1.0))
+        // What is left of the light can be no more than all of it.
+        Some(pieces_form_factor(eye, normal, &pieces).clamp(0.0, full))
     }
 
     /// The fraction of the form factor from (`eye`, `normal`) to patch `target`
     /// that is not blocked, estimated with shadow rays (`seed`, `hint`): the
     /// fallback of [`Self::mean_visible_form_factor`] and what
-    /// [`super::EmitterSampling::Rays`] uses.
-    #[must_use]
-    #[allow(clippy::too_many_arguments)]
-    pub fn visible_fraction(
-        &self,
-        sources: &Sources,
-        eye: DVec3,
-        normal: DVec3,
-        own_surface: u32,
-        target: u32,
-        seed: u64,
-        hint: PixelHint,
-    ) -> f64 {
-        self.ray_fraction(sources, eye, normal, own_surface, target, seed, hint)
-    }
-
-    /// The ray estimate of [`Self::visible_fraction`]: stratified jittered rays
+    /// [`super::EmitterSampling::Rays`] uses. Stratified jittered rays are
     /// weighted by the point-to-point kernel. A first, small set of rays is
     /// trusted only when its rays agree with each other and with what the item
     /// buffer saw (`hint`); otherwise 32 x 32 rays decide, since a thin visible
     /// or hidden sliver can slip between the first samples.
+    #[must_use]
     #[allow(clippy::too_many_arguments)]
-    fn ray_fraction(
+    pub fn visible_fraction(
         &self,
         sources: &Sources,
         eye: DVec3,

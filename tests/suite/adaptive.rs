@@ -5,6 +5,8 @@ use glam::DVec3;
 use radiosity::scenes::penumbra::{penumbra_parallel, PenumbraSpec};
 use radiosity::Settings;
 
+use super::penumbra_metrics::measure;
+
 /// The floor's object index in the penumbra scenes.
 fn floor_object(spec: &PenumbraSpec) -> u32 {
     let scene = spec.scene().unwrap();
@@ -124,25 +126,11 @@ fn shading_is_continuous_across_refined_and_unrefined_neighbours() {
     );
 }
 
-/// Area-weighted mean absolute error of the floor's elements against the
-/// exact element means, relative to the brightest exact element mean.
+/// Floor leaves and their area-weighted mean error against the exact element
+/// means, relative to the light-on value.
 fn floor_error(spec: &PenumbraSpec, settings: &Settings) -> (usize, f64) {
-    let scene = spec.scene().unwrap();
-    let sol = radiosity::solve(&scene, settings, &|_| {}).unwrap();
-    let floor = floor_object(spec);
-    let (mut count, mut sum, mut area, mut brightest) = (0, 0.0, 0.0, 0.0f64);
-    for e in sol.mesh.elements.values().filter(|e| e.is_leaf()) {
-        let lattice = &sol.mesh.surfaces[e.surface as usize];
-        if lattice.object != floor {
-            continue;
-        }
-        let exact = spec.exact_element_mean(&lattice.polygon(&e.cell)).unwrap();
-        brightest = brightest.max(exact.max_band());
-        sum += (e.radiosity - exact).abs().max_band() * e.area;
-        area += e.area;
-        count += 1;
-    }
-    (count, sum / area / brightest)
+    let errors = measure(spec, settings);
+    (errors.floor.len(), errors.mean)
 }
 
 /// The substructuring claim: adaptive subdivision reaches the error of the
