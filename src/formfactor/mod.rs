@@ -2,6 +2,7 @@
 //! the sparse rows it produces, and the source polygons it rasterizes.
 
 mod backfaces;
+mod exposure;
 pub mod hemicube;
 mod method;
 mod point_polygon;

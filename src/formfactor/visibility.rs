@@ -60,11 +60,11 @@ pub struct EmitterVisibility<'a> {
 
 /// Every patch polygon as an occluder, for shadow rays.
 pub struct Occluders {
-    bvh: Bvh2,
+    pub(super) bvh: Bvh2,
     /// Coordinates are stored relative to this centre so that the BVH's single
     /// precision boxes keep their accuracy far from the origin.
-    centre: DVec3,
-    pad: f64,
+    pub(super) centre: DVec3,
+    pub(super) pad: f64,
 }
 
 impl std::fmt::Debug for Occluders {

@@ -108,6 +108,34 @@ impl Cell {
         }
     }
 
+    /// A probe strictly inside the cell. Cells of one quadtree are nested or
+    /// disjoint, so a cell no larger than `other` lies inside it exactly when
+    /// `other` contains this probe.
+    #[must_use]
+    pub fn inner_probe(&self) -> Probe {
+        match *self {
+            Cell::Quad { u, v, size } => (
+                4 * u as i64 + 2 * size as i64,
+                4 * v as i64 + 2 * size as i64,
+            ),
+            Cell::Tri { a, b, size, up } => {
+                // A quarter and three quarters along the legs (in probe units,
+                // `size` is a quarter of the leg).
+                let k = if up { 1 } else { 3 };
+                (
+                    4 * a as i64 + k * size as i64,
+                    4 * b as i64 + k * size as i64,
+                )
+            }
+        }
+    }
+
+    /// True when `inner` (a cell of the same quadtree) lies inside this one.
+    #[must_use]
+    pub fn holds(&self, inner: &Cell) -> bool {
+        inner.size() <= self.size() && self.contains(inner.inner_probe())
+    }
+
     /// True when the probe (at four times lattice resolution) lies inside the
     /// cell or on its boundary.
     #[must_use]
@@ -182,6 +210,43 @@ impl Cell {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cell_holds_its_descendants_and_nothing_else() {
+        for root in [
+            Cell::Quad {
+                u: 8,
+                v: 4,
+                size: 8,
+            },
+            Cell::Tri {
+                a: 0,
+                b: 8,
+                size: 8,
+                up: true,
+            },
+            Cell::Tri {
+                a: 8,
+                b: 0,
+                size: 8,
+                up: false,
+            },
+        ] {
+            let children = root.children();
+            let grandchildren: Vec<Cell> = children.iter().flat_map(Cell::children).collect();
+            for (i, c) in children.iter().enumerate() {
+                assert!(root.holds(c));
+                assert!(!c.holds(&root), "a child does not hold its parent");
+                for (j, d) in children.iter().enumerate() {
+                    assert_eq!(c.holds(d), i == j, "{c:?} {d:?}");
+                }
+                for g in &grandchildren {
+                    let mine = c.children().contains(g);
+                    assert_eq!(c.holds(g), mine, "{c:?} {g:?}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn children_tile_the_parent() {

@@ -128,6 +128,7 @@ pub(crate) fn solve_progressive(
             if !more {
                 break reason;
             }
+            shooter.forget_cells();
             fraction = run.state.unshot_fraction();
             last_pass_fraction = fraction;
             continue;
@@ -137,6 +138,7 @@ pub(crate) fn solve_progressive(
             && fraction <= ps.refine_factor * last_pass_fraction
         {
             run.refine_pass(fraction);
+            shooter.forget_cells();
             fraction = run.state.unshot_fraction();
             last_pass_fraction = fraction;
             continue;

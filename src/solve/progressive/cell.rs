@@ -38,6 +38,8 @@ pub(super) struct CellResult {
 pub(super) struct CellContext<'a> {
     pub(super) mesh: &'a Mesh,
     pub(super) receivers: &'a Receivers,
+    /// The shooting patch.
+    pub(super) patch: u32,
     pub(super) surface: u32,
     pub(super) seed: u64,
     pub(super) method: FormFactorMethod,
@@ -61,11 +63,57 @@ impl CellContext<'_> {
         }
     }
 
-    /// Shoots from one cell: splits it where its eye is shut in or (classic)
-    /// a reciprocal exceeds 1, else adds its form factors. Cells found open
-    /// are listed in `r.open` when `record` (not below a classic split, which
+    /// Area of the exposed and of the shut-in leaves of the shooting patch
+    /// within `cell` (a cell inside one leaf takes that leaf's side whole).
+    fn exposure(&self, cell: &Cell) -> (f64, f64) {
+        let r = self.receivers;
+        let (mut exposed, mut hidden) = (0.0, 0.0);
+        for i in r.patch_leaves[self.patch as usize].clone() {
+            let i = i as usize;
+            let leaf = &self.mesh.elements[r.leaves[i]].cell;
+            let area = if cell.holds(leaf) {
+                r.areas[i]
+            } else if leaf.holds(cell) {
+                let whole = polygon_area(&self.mesh.surfaces[self.surface as usize].polygon(cell));
+                return if r.exposed[i] {
+                    (whole, 0.0)
+                } else {
+                    (0.0, whole)
+                };
+            } else {
+                continue;
+            };
+            if r.exposed[i] {
+                exposed += area;
+            } else {
+                hidden += area;
+            }
+        }
+        (exposed, hidden)
+    }
+
+    /// Shoots from one cell: splits it where part of it is shut in (leaves
+    /// that are not exposed, or an eye that is shut in) or (classic) a
+    /// reciprocal exceeds 1, else adds its form factors. Cells found open are
+    /// listed in `r.open` when `record` (not below a classic split, which
     /// depends on the receivers of the moment).
     pub(super) fn shoot(&self, cube: &mut Hemicube, cell: &Cell, record: bool, r: &mut CellResult) {
+        // Only the exposed leaves take part in the exchange, so only they
+        // shoot: a cell holding both kinds is split until each part is one
+        // kind (which ends at the leaves themselves, at the latest), and a cell
+        // of shut-in leaves shoots nothing.
+        let (exposed, hidden) = self.exposure(cell);
+        if exposed <= 0.0 {
+            r.counts.hidden_cells += 1;
+            return;
+        }
+        if hidden > 0.0 {
+            r.counts.hidden_splits += 1;
+            for child in cell.children() {
+                self.shoot(cube, &child, record, r);
+            }
+            return;
+        }
         let s = self.cell_shooter(cell);
         let normal = self.mesh.surfaces[self.surface as usize].normal;
         // Hybrid renders patches first (see `visibility`); classic needs every
@@ -105,7 +153,7 @@ impl CellContext<'_> {
                 let reciprocal: Vec<(u32, f64)> = seen
                     .polygons
                     .iter()
-                    .filter(|c| c.won > 0.0)
+                    .filter(|c| c.won > 0.0 && self.receivers.exposed[c.id as usize])
                     .map(|c| (c.id, c.won * s.area / self.receivers.areas[c.id as usize]))
                     .collect();
                 // No level limit here: once a cell is no larger than the
@@ -192,6 +240,9 @@ impl CellContext<'_> {
         out: &mut Vec<(u32, f64)>,
     ) {
         for (i, v) in visible_fractions(self.mesh, self.receivers, patches, leaves) {
+            if !self.receivers.exposed[i as usize] {
+                continue;
+            }
             let eye = self.receivers.eyes[i as usize];
             // A leaf behind the shooter's plane cannot receive from its front,
             // even when it inherits a visible fraction from its ancestors.

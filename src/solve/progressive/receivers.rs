@@ -1,10 +1,11 @@
 //! The receivers of a shot: the leaf elements in a stable order, as polygons
 //! for the shooter's item buffer (id = position in that order).
 
-use crate::formfactor::Sources;
+use crate::formfactor::{Occluders, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
+use rayon::prelude::*;
 use slotmap::SecondaryMap;
 use std::ops::Range;
 
@@ -32,6 +33,12 @@ pub struct Receivers {
     pub areas: Vec<f64>,
     /// Reflectance of each leaf.
     pub reflectances: Vec<Rgb>,
+    /// Whether each leaf is exposed: whether its receiving point sees anything
+    /// but back faces (see `Occluders::is_shut_in`). A leaf that is not, such
+    /// as one under a box standing on it, is seen by nothing: it neither
+    /// receives nor shoots, as its empty row keeps it out of the exchange when
+    /// gathering.
+    pub exposed: Vec<bool>,
 }
 
 impl Receivers {
@@ -60,16 +67,28 @@ impl Receivers {
             areas.push(e.area);
             reflectances.push(mesh.surfaces[e.surface as usize].reflectance);
         }
+        let patch_sources = Sources::from_mesh(mesh);
+        let occluders = Occluders::new(&patch_sources);
+        let exposed = leaves
+            .par_iter()
+            .zip(&eyes)
+            .zip(&normals)
+            .map(|((k, eye), normal)| {
+                let surface = mesh.elements[*k].surface;
+                !occluders.is_shut_in(&patch_sources, *eye, *normal, surface)
+            })
+            .collect();
         Receivers {
             leaves,
             sources,
-            patch_sources: Sources::from_mesh(mesh),
+            patch_sources,
             patch_leaves,
             index,
             eyes,
             normals,
             areas,
             reflectances,
+            exposed,
         }
     }
 

@@ -56,9 +56,11 @@ pub struct ProgressiveStats {
     /// Classic reciprocal form factors still above 1 at the lattice's finest
     /// shooter cell, clipped to 1.
     pub reciprocity_clips: usize,
-    /// Shooter cells split because their eye was shut inside an object.
+    /// Shooter cells split because part of them is shut inside an object:
+    /// they hold both exposed and shut-in leaves, or their eye is shut in.
     pub hidden_eye_splits: usize,
-    /// Shooter cells still shut in at the deepest split (they shot nothing).
+    /// Shooter cells that shot nothing: all their leaves are shut in, or their
+    /// eye still is at the deepest split.
     pub hidden_cells: usize,
     /// Shots whose implied row sum exceeded 1 (point sampling of receivers
     /// that straddle an occluder's foot; not corrected, as gathering does not

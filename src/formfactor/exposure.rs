@@ -1,0 +1,177 @@
+//! Whether a receiving point is shut in: whether it sees nothing but back
+//! faces.
+//!
+//! A point of the floor under a box standing on it sees only the box's back
+//! faces. Its gathering hemi-cube finds no front face, its row stays empty,
+//! and by reciprocity nothing sees it either, so it takes no part in the
+//! exchange (see `solve::PatchSystem`). The shooting solver has no gathering
+//! hemi-cube per element and asks the same question with rays: from the point,
+//! along a fixed fan of directions over its hemisphere, what does each ray meet
+//! first? The point is shut in when every ray meets a back face. One ray that
+//! meets a front face, or nothing (the point looks out into an open scene),
+//! is enough to show it is not: a sparse fan may miss a small light far away,
+//! but it cannot miss the open sky around it.
+//!
+//! The fan is dense near the horizon, where a shut-in point's rays travel
+//! furthest and a gap between an object and the surface it stands on would
+//! show.
+
+use super::{Occluders, Sources};
+use glam::DVec3;
+use obvhs::ray::{Ray, RayHit};
+
+/// Elevations above the horizon (radians) and azimuth counts of the rings of
+/// the fan; the normal itself is the first ray.
+const RINGS: [(f64, usize); 4] = [(1.05, 6), (0.6, 10), (0.25, 16), (0.06, 16)];
+
+impl Occluders {
+    /// True when every ray of the fan from `eye` over the hemisphere about
+    /// unit `normal` first meets a back face (ignoring polygons of
+    /// `own_surface`, the plane the point lies on).
+    #[must_use]
+    pub fn is_shut_in(
+        &self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        own_surface: u32,
+    ) -> bool {
+        let (t1, t2) = normal.any_orthonormal_pair();
+        let blocked = |dir: DVec3| self.first_face(sources, eye, dir, own_surface) == Some(false);
+        blocked(normal)
+            && RINGS.iter().all(|&(elevation, count)| {
+                let (sin_e, cos_e) = elevation.sin_cos();
+                (0..count).all(|k| {
+                    let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / count as f64;
+                    let (sin_a, cos_a) = azimuth.sin_cos();
+                    blocked(normal * sin_e + (t1 * cos_a + t2 * sin_a) * cos_e)
+                })
+            })
+    }
+
+    /// What the ray from `eye` along unit `dir` meets first: `Some(true)` a
+    /// front face, `Some(false)` a back face, `None` nothing.
+    fn first_face(&self, sources: &Sources, eye: DVec3, dir: DVec3, skip: u32) -> Option<bool> {
+        let ray = Ray::new(
+            (eye - self.centre).as_vec3a(),
+            dir.as_vec3a(),
+            0.0,
+            f32::INFINITY,
+        );
+        // The BVH prunes in single precision; the nearest hit is decided here
+        // in double precision, with the single-precision bound padded so that
+        // near ties are all examined.
+        let mut nearest: Option<(f64, bool)> = None;
+        let mut hit = RayHit::none();
+        self.bvh.ray_traverse(ray, &mut hit, |_, slot| {
+            let id = self.bvh.primitive_indices[slot] as usize;
+            let p = &sources.polygons[id];
+            if p.surface == skip {
+                return f32::INFINITY;
+            }
+            let Some(t) = hit_distance(&p.vertices[..p.count as usize], p.normal, eye, dir) else {
+                return f32::INFINITY;
+            };
+            if nearest.is_none_or(|(best, _)| t < best) {
+                nearest = Some((t, p.normal.dot(dir) < 0.0));
+            }
+            (t + self.pad) as f32
+        });
+        nearest.map(|(_, front)| front)
+    }
+}
+
+/// Distance along the ray from `a` along unit `dir` to the convex planar
+/// polygon `v` (counter-clockwise about unit `normal`), if it hits beyond a
+/// rounding margin.
+fn hit_distance(v: &[DVec3], normal: DVec3, a: DVec3, dir: DVec3) -> Option<f64> {
+    let denom = normal.dot(dir);
+    if denom.abs() < 1e-15 {
+        return None;
+    }
+    let t = normal.dot(v[0] - a) / denom;
+    let scale = (v[0] - a).length();
+    if t.is_nan() || t <= 1e-12 * scale {
+        return None;
+    }
+    let p = a + dir * t;
+    let m = v.len();
+    (0..m)
+        .all(|i| (v[(i + 1) % m] - v[i]).cross(p - v[i]).dot(normal) >= 0.0)
+        .then_some(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formfactor::SourcePolygon;
+
+    fn square(centre: DVec3, half: f64, normal: DVec3, surface: u32) -> SourcePolygon {
+        let (t1, t2) = normal.any_orthonormal_pair();
+        // Counter-clockwise about the normal: t1 x t2 = normal.
+        let vertices = [
+            centre - t1 * half - t2 * half,
+            centre + t1 * half - t2 * half,
+            centre + t1 * half + t2 * half,
+            centre - t1 * half + t2 * half,
+        ];
+        SourcePolygon {
+            vertices,
+            count: 4,
+            normal,
+            surface,
+            centre,
+            radius: half * 2f64.sqrt(),
+        }
+    }
+
+    /// A unit box standing on the floor z = 0 (no bottom), faces pointing out,
+    /// plus the floor itself as surface 0.
+    fn box_on_floor() -> Sources {
+        let c = DVec3::new(0.0, 0.0, 0.5);
+        let mut polygons = vec![square(DVec3::ZERO, 5.0, DVec3::Z, 0)];
+        let faces = [DVec3::Z, DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y];
+        for (i, n) in faces.into_iter().enumerate() {
+            polygons.push(square(c + n * 0.5, 0.5, n, i as u32 + 1));
+        }
+        Sources {
+            polygons,
+            emitters: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_point_under_a_box_is_shut_in_and_one_beside_it_is_exposed() {
+        let sources = box_on_floor();
+        let occluders = Occluders::new(&sources);
+        let lift = DVec3::Z * 1e-7;
+        let under = DVec3::new(0.49, 0.3, 0.0) + lift;
+        let beside = DVec3::new(0.51, 0.3, 0.0) + lift;
+        assert!(occluders.is_shut_in(&sources, under, DVec3::Z, 0));
+        assert!(!occluders.is_shut_in(&sources, beside, DVec3::Z, 0));
+    }
+
+    #[test]
+    fn a_point_facing_only_the_void_is_not_shut_in() {
+        let sources = box_on_floor();
+        let occluders = Occluders::new(&sources);
+        // On the floor's plane but facing down: nothing lies below.
+        let below = DVec3::new(3.0, 3.0, -1e-7);
+        assert!(!occluders.is_shut_in(&sources, below, DVec3::NEG_Z, 0));
+    }
+
+    #[test]
+    fn a_point_under_a_lid_is_not_shut_in_if_one_ray_gets_out() {
+        // A downward-facing lid (its back face up, toward the inside) over a
+        // floor point, open at the sides: the rays out sideways escape.
+        let mut sources = box_on_floor();
+        sources.polygons.truncate(2);
+        let occluders = Occluders::new(&sources);
+        let eye = DVec3::new(0.0, 0.0, 1e-7);
+        assert!(!occluders.is_shut_in(&sources, eye, DVec3::Z, 0));
+        // With the four walls as well it is.
+        let sources = box_on_floor();
+        let occluders = Occluders::new(&sources);
+        assert!(occluders.is_shut_in(&sources, eye, DVec3::Z, 0));
+    }
+}
