@@ -235,6 +235,10 @@ pub struct SolveSettingsArgs {
     /// the shooting patch.
     #[arg(long = "shooter-depth", default_value_t = 1)]
     pub shooter_depth: u8,
+    /// Progressive: most mebibytes of form factors kept from each patch's shot
+    /// for its next shots (0 renders every shot anew).
+    #[arg(long = "shot-cache-mb", default_value_t = 256)]
+    pub shot_cache_mb: usize,
     /// Progressive: write NAME_preview_SHOTS.png (with the ambient term) every
     /// N shots.
     #[arg(long = "preview-every")]

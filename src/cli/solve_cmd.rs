@@ -62,6 +62,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             time_budget,
             preview_every: a.preview_every,
             shooter_depth: a.shooter_depth,
+            shot_cache_bytes: a.shot_cache_mb.saturating_mul(1 << 20),
             ..ProgressiveSettings::default()
         },
         refine: RefineSettings {

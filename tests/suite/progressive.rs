@@ -516,3 +516,77 @@ fn reciprocals_above_one_split_the_shooter_and_are_counted() {
         }
     }
 }
+
+#[test]
+fn kept_form_factors_give_the_bits_of_rendering_every_shot() {
+    // On a fixed mesh with every shot fine, a patch's later shots need the
+    // factors of its first: keeping them must change nothing but the work.
+    let scene = scenes::cornell_box();
+    let run = |cache_bytes| {
+        let s = progressive(
+            uniform(0.14, 1),
+            ProgressiveSettings {
+                fine_shot_power: 0.0,
+                shot_cache_bytes: cache_bytes,
+                ..ProgressiveSettings::default()
+            },
+        );
+        radiosity::solve(&scene, &s, &|_| {}).unwrap()
+    };
+    let kept = run(ProgressiveSettings::default().shot_cache_bytes);
+    let rendered = run(0);
+    let (k, r) = (stats(&kept), stats(&rendered));
+    assert_eq!(k.shots, r.shots);
+    assert_eq!(r.cached_shots, 0);
+    // Each patch renders once at most: at its first shot.
+    assert!(k.shots - k.cached_shots <= kept.stats.patches);
+    assert!(k.shots > 2 * kept.stats.patches, "patches shoot repeatedly");
+    assert!(
+        k.shot_hemicubes * 3 < r.shot_hemicubes,
+        "{} vs {}",
+        k.shot_hemicubes,
+        r.shot_hemicubes
+    );
+    assert!(k.shot_cache_bytes > 0);
+    for (a, b) in kept.mesh.leaves().iter().zip(rendered.mesh.leaves()) {
+        assert_eq!(
+            kept.mesh.elements[*a].radiosity,
+            rendered.mesh.elements[b].radiosity
+        );
+    }
+}
+
+#[test]
+fn leaves_shut_in_under_the_blocks_are_the_leaves_gathering_leaves_out() {
+    // The shooter finds shut-in leaves with a fan of rays; gathering finds
+    // them as leaves whose hemi-cube saw no front face (an empty row). On the
+    // same uniform mesh the two must pick the same floor leaves, and exactly
+    // those receive nothing when shot to.
+    let scene = scenes::cornell_box();
+    let gathered = radiosity::solve(&scene, &uniform(0.14, 2), &|_| {}).unwrap();
+    let shot = radiosity::solve(
+        &scene,
+        &progressive(uniform(0.14, 2), ProgressiveSettings::default()),
+        &|_| {},
+    )
+    .unwrap();
+    let floor = scene
+        .surfaces
+        .iter()
+        .position(|s| scene.objects[s.object as usize].name == "floor")
+        .unwrap() as u32;
+    let (mut shut, mut checked) = (0, 0);
+    for (g, p) in gathered.mesh.leaves().iter().zip(shot.mesh.leaves()) {
+        let (g, p) = (&gathered.mesh.elements[*g], &shot.mesh.elements[p]);
+        assert_eq!(g.cell, p.cell);
+        if g.surface != floor {
+            continue;
+        }
+        checked += 1;
+        let gathered_out = g.row.is_empty();
+        let dark = p.radiosity.max_band() == 0.0;
+        assert_eq!(gathered_out, dark, "floor leaf {:?}", g.cell);
+        shut += usize::from(dark);
+    }
+    assert!(shut > 0 && shut < checked, "{shut} of {checked}");
+}

@@ -16,7 +16,7 @@ use crate::refine::{mark_for_split, RefineSettings};
 use crate::scene::Scene;
 use crate::solve::progressive::{
     adopt, ambient_term, HistoryPoint, ProgressiveStats, Receivers, Shooter, ShootingPass,
-    ShootingState, StopReason, Stopping,
+    ShootingState, ShotCache, StopReason, Stopping,
 };
 use crate::solve::{push_up, GatherTotals, PatchSystem, SolveReport, SolverKind};
 use std::sync::Arc;
@@ -45,6 +45,7 @@ struct Run<'a> {
     mesh: Mesh,
     state: ShootingState,
     receivers: Receivers,
+    cache: ShotCache,
     patch_sources: Sources,
     row_settings: RowSettings,
     min_area: f64,
@@ -87,6 +88,7 @@ pub(crate) fn solve_progressive(
         started,
         state: ShootingState::new(&mesh),
         receivers: Receivers::new(&mesh),
+        cache: ShotCache::new(mesh.patches.len(), ps.shot_cache_bytes),
         patch_sources: Sources::from_mesh(&mesh),
         row_settings: RowSettings {
             table: Arc::clone(&table),
@@ -108,6 +110,7 @@ pub(crate) fn solve_progressive(
         shots: 0,
         row_sum_total: 0.0,
     };
+    run.state.expose(&run.mesh, &run.receivers);
     run.stats.seconds.mesh = t.elapsed().as_secs_f64();
     let mut shooter = Shooter::new(table, settings.seed, settings.form_factors);
     let stopping = Stopping::new(ps, started);
@@ -182,16 +185,37 @@ impl Run<'_> {
         } else {
             0
         };
-        let shot = shooter.factors(&self.mesh, &self.receivers, patch, depth);
-        self.state.open_scale[patch as usize] = shot.open_scale;
+        let mut rendered = None;
+        if self.cache.get(patch, depth).is_none() {
+            let shot = shooter.factors(&self.mesh, &self.receivers, patch, depth);
+            let keyed: Vec<(ElementKey, f64)> = shot
+                .factors
+                .iter()
+                .map(|&(i, f)| (self.receivers.leaves[i as usize], f))
+                .collect();
+            let f = &mut self.figures;
+            f.shot_hemicubes += shot.hemicubes;
+            f.shooter_splits += shot.splits;
+            f.reciprocity_clips += shot.clips;
+            f.hidden_eye_splits += shot.hidden_splits;
+            f.hidden_cells += shot.hidden_cells;
+            self.hemicube.hemicubes += shot.hemicubes;
+            self.hemicube.polygons_rasterized += shot.polygons_rasterized;
+            self.hemicube.pixels_tested += shot.pixels_tested;
+            if !self.cache.store(patch, depth, &keyed) {
+                rendered = Some(keyed);
+            }
+        } else {
+            self.figures.cached_shots += 1;
+        }
         self.stats.seconds.form_factors += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let before = self.state.unshot_power();
-        let unshot = self.state.take_unshot(patch);
-        for &(leaf, f) in &shot.factors {
-            let key = self.receivers.leaves[leaf as usize];
-            self.state.receive(&mut self.mesh, key, unshot * f);
-        }
+        let factors = match &rendered {
+            Some(f) => f.as_slice(),
+            None => self.cache.get(patch, depth).unwrap_or_default(),
+        };
+        let delivery = self.state.deliver(&mut self.mesh, patch, factors);
         let after = self.state.unshot_power();
         if (0..3).any(|b| after[b] > before[b] * (1.0 + 1e-12)) {
             self.figures.unshot_increases += 1;
@@ -200,19 +224,12 @@ impl Run<'_> {
 
         self.shots += 1;
         let f = &mut self.figures;
-        f.shot_hemicubes += shot.hemicubes;
-        f.shooter_splits += shot.splits;
-        f.reciprocity_clips += shot.clips;
-        f.hidden_eye_splits += shot.hidden_splits;
-        f.hidden_cells += shot.hidden_cells;
         f.fine_shots += usize::from(depth > 0);
-        f.scaled_shots += usize::from(shot.scaled);
-        f.row_sums_above_one += usize::from(shot.implied_row_sum > 1.0);
-        f.max_implied_row_sum = f.max_implied_row_sum.max(shot.implied_row_sum);
-        self.row_sum_total += shot.implied_row_sum;
-        self.hemicube.hemicubes += shot.hemicubes;
-        self.hemicube.polygons_rasterized += shot.polygons_rasterized;
-        self.hemicube.pixels_tested += shot.pixels_tested;
+        f.scaled_shots += usize::from(delivery.scaled);
+        f.row_sums_above_one += usize::from(delivery.implied_row_sum > 1.0);
+        f.max_implied_row_sum = f.max_implied_row_sum.max(delivery.implied_row_sum);
+        f.shot_cache_bytes = f.shot_cache_bytes.max(self.cache.bytes());
+        self.row_sum_total += delivery.implied_row_sum;
     }
 
     fn report_shot(&self, fraction: f64) {
@@ -293,7 +310,9 @@ impl Run<'_> {
         self.hemicube.pixels_tested += s.pixels_tested;
 
         let change = adopt(&mut self.mesh, &mut self.state, &fresh, &rows);
+        self.cache.refine(&self.mesh, &fresh, &rows);
         self.receivers = Receivers::new(&self.mesh);
+        self.state.expose(&self.mesh, &self.receivers);
         let emitted = self.state.emitted_power();
         self.figures.passes.push(ShootingPass {
             pass,
@@ -333,7 +352,7 @@ impl Run<'_> {
             emitted,
             absorbed: self.state.absorbed_power(mesh),
         };
-        // Progressive keeps no form factors: the system holds reflectance and
+        // Progressive keeps no gathering rows: the system holds reflectance and
         // emission with empty rows.
         let system = PatchSystem::from_mesh(mesh);
         let report = SolveReport {

@@ -30,8 +30,6 @@ pub(super) struct CellResult {
     /// The cells it turned out to consist of once shut-in parts were split
     /// off (and dropped where shut in at the deepest level).
     pub(super) open: Vec<Cell>,
-    /// Area of the cells that shot (not shut in), counted once per final cell.
-    pub(super) open_area: f64,
 }
 
 /// What every cell of one shot shares.
@@ -144,7 +142,6 @@ impl CellContext<'_> {
         }
         match self.method {
             FormFactorMethod::Hybrid => {
-                r.open_area += s.area;
                 let leaves =
                     self.partly_visible_leaves(cube, &s, normal, &seen.polygons, &mut r.counts);
                 self.hybrid(&s, normal, &seen.polygons, &leaves, &mut r.out);
@@ -167,7 +164,6 @@ impl CellContext<'_> {
                     }
                     return;
                 }
-                r.open_area += s.area;
                 for (i, f) in reciprocal {
                     if f > 1.0 {
                         r.counts.clips += 1;

@@ -3,9 +3,11 @@
 //! shoots it to every leaf element it sees, and its unshot radiosity becomes
 //! zero. Each receiving leaf `e` gains `dB_e = rho_e dB_i F_ei` (with `F_ei =
 //! F_ie A_i / A_e` in the classic form), and its patch's unshot radiosity the
-//! area-weighted share. No form factor is stored, so early results come in time
-//! linear in the number of patches, and the result converges to the solution
-//! of the same radiosity system as gathering.
+//! area-weighted share. No form factor has to be computed before the first
+//! shot, so early results come in time linear in the number of patches, and
+//! the result converges to the solution of the same radiosity system as
+//! gathering. A patch's factors are kept for its later shots (within a byte
+//! budget), which then render nothing.
 //!
 //! The parts, one file each:
 //!
@@ -16,6 +18,7 @@
 //! - [`Receivers`]: the leaves as an item-buffer polygon list;
 //! - [`Shooter`]: the form factors of one shot (see its module for the hybrid
 //!   and classic forms, and how reciprocals above 1 are handled);
+//! - [`ShotCache`]: each patch's form factors, kept for its next shots;
 //! - [`visible_fractions`]: the visible part of each leaf from the item buffer;
 //! - [`ambient_term`]: the display-only ambient term;
 //! - [`Stopping`]: unshot fraction, shot count, time budget;
@@ -25,6 +28,7 @@
 //! The driver that runs these over a scene is `pipeline::progressive`.
 
 mod ambient;
+mod cache;
 mod cell;
 mod newborn;
 mod receivers;
@@ -36,11 +40,12 @@ mod stopping;
 mod visibility;
 
 pub use ambient::ambient_term;
+pub use cache::{ShotCache, ENTRY_BYTES};
 pub use newborn::adopt;
 pub use receivers::Receivers;
 pub use report::{HistoryPoint, ProgressiveStats, ShootingPass};
 pub use settings::{ProgressiveSettings, SolverKind, MAX_SHOOTER_DEPTH};
 pub use shoot::{Shooter, ShotFactors, MAX_SHOOTER_SPLITS};
-pub use state::ShootingState;
+pub use state::{Delivery, ShootingState};
 pub use stopping::{StopReason, Stopping};
 pub use visibility::{partly_visible, visible_fractions, RESOLVED_PIXELS};

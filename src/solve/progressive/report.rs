@@ -51,6 +51,11 @@ pub struct ProgressiveStats {
     /// Hemi-cubes rendered by shots (the refinement gathers are counted in the
     /// hemi-cube figures of the solve).
     pub shot_hemicubes: u64,
+    /// Shots that reused the form factors kept from the patch's earlier shot
+    /// (and rendered nothing).
+    pub cached_shots: usize,
+    /// Most bytes the kept form factors took.
+    pub shot_cache_bytes: usize,
     /// Classic shooter cells split because a reciprocal form factor exceeded 1.
     pub shooter_splits: usize,
     /// Classic reciprocal form factors still above 1 at the lattice's finest

@@ -60,6 +60,9 @@ pub struct ProgressiveSettings {
     /// fraction has fallen by this factor since the last pass (and once more
     /// when the tolerance is met), up to `RefineSettings::max_passes` passes.
     pub refine_factor: f64,
+    /// Most bytes of form factors kept from each patch's shot for its next
+    /// shots (see `ShotCache`); 0 renders every shot anew.
+    pub shot_cache_bytes: usize,
 }
 
 /// The deepest shooter cells allowed (`4^4 = 256` hemi-cubes per shot).
@@ -75,6 +78,7 @@ impl Default for ProgressiveSettings {
             shooter_depth: 1,
             fine_shot_power: 1e-3,
             refine_factor: 0.25,
+            shot_cache_bytes: 256 << 20,
         }
     }
 }

@@ -34,20 +34,17 @@
 //! (back faces fill most of its view) is split too, up to
 //! [`MAX_SHOOTER_SPLITS`] times.
 //!
-//! The implied row sum `sum_e F_ei A_e / A_i` is 1 in a closed scene, up to
-//! the point sampling of each receiver (a leaf that straddles an occluder's
-//! foot counts all its area, as it does when it gathers). Only where the
-//! reflected part `sum_e rho_e F_ei A_e / A_i` would exceed 1 in some band,
-//! so that a shot would create unshot power, is the shot scaled back, and
-//! counted.
+//! The factors leave out the patch's open scale and any scaling back of a
+//! shot (see [`ShootingState::deliver`]), so that they can be kept for the
+//! patch's next shots (see [`super::ShotCache`]).
 //!
+//! [`ShootingState::deliver`]: super::ShootingState::deliver
 //! [`ProgressiveSettings::shooter_depth`]: super::ProgressiveSettings::shooter_depth
 
 use super::cell::{CellContext, CellResult};
 use super::Receivers;
 use crate::formfactor::hemicube::{DeltaTable, Hemicube};
 use crate::formfactor::FormFactorMethod;
-use crate::math::Rgb;
 use crate::mesh::{Cell, Mesh};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -63,18 +60,9 @@ pub const HIDDEN_EYE: f64 = 0.5;
 /// The form factors of one shot and what computing them took.
 #[derive(Clone, Debug, Default)]
 pub struct ShotFactors {
-    /// Patch area over the area of its cells that shot (1 when none is shut
-    /// in): the factor by which the open part's radiosity exceeds the patch's
-    /// average.
-    pub open_scale: f64,
     /// `(leaf index, F_ei)`: the form factor from each receiving leaf to the
     /// shooting patch, in increasing leaf order, zeros left out.
     pub factors: Vec<(u32, f64)>,
-    /// `sum_e F_ei A_e / A_i` before any scaling (1 in a closed scene).
-    pub implied_row_sum: f64,
-    /// True when the reflected part of the implied row sum exceeded 1 in
-    /// some band and the factors were scaled back.
-    pub scaled: bool,
     /// Hemi-cubes rendered.
     pub hemicubes: u64,
     /// Polygon-face pairs scan converted.
@@ -202,7 +190,6 @@ impl Shooter {
             self.dense.resize(receivers.len(), 0.0);
         }
         let mut shot = ShotFactors::default();
-        let open_area: f64 = results.iter().map(|r| r.open_area).sum();
         for CellResult { out, counts, .. } in results {
             shot.hemicubes += counts.hemicubes;
             shot.polygons_rasterized += counts.polygons_rasterized;
@@ -227,34 +214,6 @@ impl Shooter {
             .map(|i| (i, std::mem::take(&mut self.dense[i as usize])))
             .filter(|e| e.1 > 0.0)
             .collect();
-        // The patch's unshot radiosity is an average over all of it, but parts
-        // shut inside an object received nothing and shoot nothing: the open
-        // part carries all the unshot power, so its radiosity is the average
-        // times area / open area. Without this, a floor patch running under a
-        // block shot too little (the blocks came out 2.5% dark).
-        shot.open_scale = 1.0;
-        if open_area > 0.0 && open_area < p.area {
-            shot.open_scale = p.area / open_area;
-            for e in &mut shot.factors {
-                e.1 *= shot.open_scale;
-            }
-        }
-        let mut row_sum = 0.0;
-        let mut reflected = Rgb::ZERO;
-        for &(i, f) in &shot.factors {
-            let w = f * receivers.areas[i as usize] / p.area;
-            row_sum += w;
-            reflected += receivers.reflectances[i as usize] * w;
-        }
-        shot.implied_row_sum = row_sum;
-        // Only a shot that would send back more than it takes needs scaling.
-        let worst = reflected.max_band();
-        if worst > 1.0 {
-            shot.scaled = true;
-            for e in &mut shot.factors {
-                e.1 /= worst;
-            }
-        }
         shot
     }
 }

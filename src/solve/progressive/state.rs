@@ -1,9 +1,20 @@
 //! What the shooting has done so far: per patch the radiosity, the part still
 //! unshot and the part already shot; per leaf element the irradiance received.
 
+use super::Receivers;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use slotmap::SecondaryMap;
+
+/// What one shot delivered.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Delivery {
+    /// `sum_e F_ei s A_e / A_i` before any scaling back (1 in a closed scene).
+    pub implied_row_sum: f64,
+    /// True when the reflected part of the implied row sum exceeded 1 in
+    /// some band and the shot was scaled back.
+    pub scaled: bool,
+}
 
 /// The bookkeeping of a progressive solve.
 ///
@@ -20,8 +31,8 @@ pub struct ShootingState {
     pub shot: Vec<Rgb>,
     /// Irradiance (received flux per area) of each leaf element.
     pub irradiance: SecondaryMap<ElementKey, Rgb>,
-    /// Per patch, its open part's radiosity over its average (see
-    /// `ShotFactors::open_scale`), from its last shot; 1 before it shoots.
+    /// Per patch, its area over the area of its exposed leaves (see
+    /// [`ShootingState::expose`]).
     pub open_scale: Vec<f64>,
     areas: Vec<f64>,
     emitted_power: f64,
@@ -52,6 +63,62 @@ impl ShootingState {
             irradiance,
             areas,
             emitted_power,
+        }
+    }
+
+    /// Takes each patch's exposed leaves from `receivers` (after every change
+    /// of the mesh). Leaves shut inside an object receive nothing, so the
+    /// patch's unshot power, an average over all of it, all sits on its
+    /// exposed part: that part's radiosity is the average times the patch's
+    /// area over the exposed area, the open scale. Gathering likewise lets
+    /// the exposed elements alone stand for the patch.
+    pub fn expose(&mut self, mesh: &Mesh, receivers: &Receivers) {
+        for (p, range) in receivers.patch_leaves.iter().enumerate() {
+            let exposed: f64 = range
+                .clone()
+                .filter(|&i| receivers.exposed[i as usize])
+                .map(|i| receivers.areas[i as usize])
+                .sum();
+            let area = mesh.patches[p].area;
+            self.open_scale[p] = if exposed > 0.0 && exposed < area {
+                area / exposed
+            } else {
+                1.0
+            };
+        }
+    }
+
+    /// Shoots patch `p`'s unshot radiosity to the leaves of `factors` (`F_ei`
+    /// from each leaf to the patch, without the open scale): each receives
+    /// `u * s * F_ei` with `u` the unshot radiosity and `s` the open scale.
+    ///
+    /// The implied row sum `sum_e F_ei s A_e / A_i` is 1 in a closed scene, up
+    /// to the point sampling of each receiver (a leaf that straddles an
+    /// occluder's foot counts all its area, as it does when it gathers). Only
+    /// where the reflected part `sum_e rho_e F_ei s A_e / A_i` would exceed 1
+    /// in some band, so that the shot would create unshot power, is the shot
+    /// scaled back, and said so.
+    pub fn deliver(&mut self, mesh: &mut Mesh, p: u32, factors: &[(ElementKey, f64)]) -> Delivery {
+        let area = self.areas[p as usize];
+        let scale = self.open_scale[p as usize];
+        let mut row_sum = 0.0;
+        let mut reflected = Rgb::ZERO;
+        for &(k, f) in factors {
+            let e = &mesh.elements[k];
+            let w = f * scale * e.area / area;
+            row_sum += w;
+            reflected += mesh.surfaces[e.surface as usize].reflectance * w;
+        }
+        let worst = reflected.max_band();
+        let scaled = worst > 1.0;
+        let factor = if scaled { scale / worst } else { scale };
+        let unshot = self.take_unshot(p);
+        for &(k, f) in factors {
+            self.receive(mesh, k, unshot * (f * factor));
+        }
+        Delivery {
+            implied_row_sum: row_sum,
+            scaled,
         }
     }
 

@@ -1,0 +1,188 @@
+//! The form factors of each patch's last shot, kept for its next shots.
+//!
+//! A patch shoots many times while the solve converges (each time its unshot
+//! radiosity has grown again), and each shot renders its cells' hemi-cubes
+//! anew for the same form factors. The first shot's factors are kept instead,
+//! per receiving leaf, and later shots only scale them: rendering dominates a
+//! shot's cost. The factors are the transpose of the gathering rows (a leaf
+//! seeing a patch is a nonzero both ways), so the cache holds about as many
+//! entries as the Gauss-Seidel path's rows; a byte budget bounds it, and a
+//! patch that does not fit renders every shot as before.
+//!
+//! A refinement pass replaces some leaves by their children: entries of leaves
+//! that are no longer leaves are dropped, and each new leaf brings its entry
+//! from the gathering row it computed to adopt what has been shot (`F_ej` from
+//! leaf `e` to patch `j` is the factor a shot of `j` needs). So no cached patch
+//! renders again when the mesh changes.
+
+use crate::formfactor::Row;
+use crate::mesh::{ElementKey, Mesh};
+
+/// Bytes one cached entry takes.
+pub const ENTRY_BYTES: usize = std::mem::size_of::<(ElementKey, f64)>();
+
+#[derive(Clone, Debug)]
+struct Cached {
+    /// Shooter cell depth the factors were rendered at.
+    depth: u8,
+    /// `(leaf, F_ei)`, leaf to patch, without the patch's open scale.
+    factors: Vec<(ElementKey, f64)>,
+}
+
+/// Per patch, the form factors from every receiving leaf to it.
+#[derive(Clone, Debug, Default)]
+pub struct ShotCache {
+    patches: Vec<Option<Cached>>,
+    entries: usize,
+    budget_entries: usize,
+}
+
+impl ShotCache {
+    /// An empty cache for `patches` patches holding at most `budget_bytes`.
+    #[must_use]
+    pub fn new(patches: usize, budget_bytes: usize) -> Self {
+        ShotCache {
+            patches: vec![None; patches],
+            entries: 0,
+            budget_entries: budget_bytes / ENTRY_BYTES,
+        }
+    }
+
+    /// The factors of `patch`, if kept from a shot at a cell depth of at least
+    /// `depth`.
+    #[must_use]
+    pub fn get(&self, patch: u32, depth: u8) -> Option<&[(ElementKey, f64)]> {
+        match &self.patches[patch as usize] {
+            Some(c) if c.depth >= depth => Some(&c.factors),
+            _ => None,
+        }
+    }
+
+    /// Keeps `factors` of `patch` (rendered at cell depth `depth`), replacing
+    /// what it held for the patch, if they fit the budget; returns whether
+    /// they were kept.
+    pub fn store(&mut self, patch: u32, depth: u8, factors: &[(ElementKey, f64)]) -> bool {
+        let slot = &mut self.patches[patch as usize];
+        let old = slot.as_ref().map_or(0, |c| c.factors.len());
+        if self.entries - old + factors.len() > self.budget_entries {
+            return false;
+        }
+        self.entries = self.entries - old + factors.len();
+        *slot = Some(Cached {
+            depth,
+            factors: factors.to_vec(),
+        });
+        true
+    }
+
+    /// Brings the cache up to a refinement pass: entries of elements that are
+    /// no longer leaves go, and each of the new leaves `fresh` (with its
+    /// gathering row in `rows`) joins every cached patch its row sees.
+    pub fn refine(&mut self, mesh: &Mesh, fresh: &[ElementKey], rows: &[Row]) {
+        let mut entries = 0;
+        for c in self.patches.iter_mut().flatten() {
+            c.factors
+                .retain(|(k, _)| mesh.elements.get(*k).is_some_and(|e| e.is_leaf()));
+            entries += c.factors.len();
+        }
+        for (&k, row) in fresh.iter().zip(rows) {
+            for &(j, f) in row.entries() {
+                if let Some(c) = &mut self.patches[j as usize] {
+                    c.factors.push((k, f64::from(f)));
+                    entries += 1;
+                }
+            }
+        }
+        self.entries = entries;
+        // A pass adds entries without asking the budget (dropping patches
+        // here would cost renders for no memory gained back this pass); the
+        // next stores see the total.
+    }
+
+    /// Entries held, over all patches.
+    #[must_use]
+    pub fn entries(&self) -> usize {
+        self.entries
+    }
+
+    /// Bytes the entries take.
+    #[must_use]
+    pub fn bytes(&self) -> usize {
+        self.entries * ENTRY_BYTES
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenes::cornell_box;
+
+    fn mesh() -> Mesh {
+        Mesh::new(&cornell_box(), 0.3, 100_000).unwrap()
+    }
+
+    #[test]
+    fn a_patch_is_served_only_at_its_depth_or_coarser() {
+        let m = mesh();
+        let leaf = m.leaves()[0];
+        let mut cache = ShotCache::new(m.patches.len(), 1 << 20);
+        assert!(cache.get(3, 0).is_none());
+        assert!(cache.store(3, 1, &[(leaf, 0.25)]));
+        assert_eq!(cache.get(3, 0), Some(&[(leaf, 0.25)][..]));
+        assert_eq!(cache.get(3, 1), Some(&[(leaf, 0.25)][..]));
+        assert!(cache.get(3, 2).is_none(), "a finer shot must render");
+        assert!(cache.get(2, 0).is_none());
+        // Replacing a patch's factors counts its entries once.
+        assert!(cache.store(3, 2, &[(leaf, 0.5), (leaf, 0.125)]));
+        assert_eq!(cache.entries(), 2);
+        assert_eq!(cache.bytes(), 2 * ENTRY_BYTES);
+    }
+
+    #[test]
+    fn the_budget_refuses_what_does_not_fit() {
+        let m = mesh();
+        let leaf = m.leaves()[0];
+        let mut cache = ShotCache::new(m.patches.len(), 3 * ENTRY_BYTES);
+        assert!(cache.store(0, 0, &[(leaf, 0.1), (leaf, 0.2)]));
+        assert!(!cache.store(1, 0, &[(leaf, 0.1), (leaf, 0.2)]));
+        assert!(cache.get(1, 0).is_none());
+        assert!(cache.store(1, 0, &[(leaf, 0.3)]));
+        assert_eq!(cache.entries(), 3);
+        // Nothing fits in no budget.
+        let mut none = ShotCache::new(m.patches.len(), 0);
+        assert!(!none.store(0, 0, &[(leaf, 0.1)]));
+    }
+
+    #[test]
+    fn refinement_drops_split_leaves_and_adds_new_ones_from_their_rows() {
+        let mut m = mesh();
+        let leaves = m.leaves();
+        let (a, b) = (leaves[0], leaves[1]);
+        let mut cache = ShotCache::new(m.patches.len(), 1 << 20);
+        assert!(cache.store(5, 0, &[(a, 0.1), (b, 0.2)]));
+        assert!(cache.store(6, 0, &[(b, 0.3)]));
+        let fresh = m.split(a);
+        // Each child sees patches 5 and 7; patch 7 has nothing kept.
+        let rows: Vec<Row> = (0..4)
+            .map(|c| Row::from_sorted(vec![(5, 0.01 * (c + 1) as f32), (7, 0.5)]))
+            .collect();
+        cache.refine(&m, &fresh, &rows);
+        let five = cache.get(5, 0).unwrap();
+        assert_eq!(five.len(), 5);
+        assert_eq!(
+            five[0],
+            (b, 0.2),
+            "the split leaf is gone, its neighbour stays"
+        );
+        for (c, &(k, f)) in five[1..].iter().enumerate() {
+            assert_eq!(k, fresh[c]);
+            assert_eq!(f, f64::from(0.01 * (c + 1) as f32));
+        }
+        assert_eq!(cache.get(6, 0), Some(&[(b, 0.3)][..]));
+        assert!(
+            cache.get(7, 0).is_none(),
+            "refinement does not create patches' entries"
+        );
+        assert_eq!(cache.entries(), 6);
+    }
+}
