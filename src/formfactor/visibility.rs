@@ -138,7 +138,7 @@ impl Occluders {
 
     /// True when no polygon (other than those on the two skipped surfaces)
     /// crosses the open segment from `a` to `b`.
-    fn clear(&self, sources: &Sources, a: DVec3, b: DVec3, skip: [u32; 2]) -> bool {
+    pub(crate) fn clear(&self, sources: &Sources, a: DVec3, b: DVec3, skip: [u32; 2]) -> bool {
         let span = b - a;
         let length = span.length();
         if length <= 0.0 {

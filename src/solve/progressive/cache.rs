@@ -64,7 +64,7 @@ impl ShotCache {
     pub fn store(&mut self, patch: u32, depth: u8, factors: &[(ElementKey, f64)]) -> bool {
         let slot = &mut self.patches[patch as usize];
         let old = slot.as_ref().map_or(0, |c| c.factors.len());
-        if self.entries - old + factors.len() > self.budget_entries {
+        if self.budget_entries == 0 || self.entries - old + factors.len() > self.budget_entries {
             return false;
         }
         self.entries = self.entries - old + factors.len();

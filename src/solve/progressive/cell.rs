@@ -3,7 +3,7 @@
 //! it contributes (see [`super::shoot`] for the forms).
 
 use super::shoot::{ShotFactors, HIDDEN_EYE};
-use super::visibility::{partly_visible, visible_fractions};
+use super::visibility::{partly_visible, visible_fractions, ShooterEye};
 use super::Receivers;
 use crate::formfactor::hemicube::{Coverage, Hemicube};
 use crate::formfactor::{element_seed, point_to_polygon, FormFactorMethod, Sources};
@@ -101,6 +101,7 @@ impl CellContext<'_> {
         // kind (which ends at the leaves themselves, at the latest), and a cell
         // of shut-in leaves shoots nothing.
         let (exposed, hidden) = self.exposure(cell);
+
         if exposed <= 0.0 {
             r.counts.hidden_cells += 1;
             return;
@@ -150,7 +151,7 @@ impl CellContext<'_> {
                 let reciprocal: Vec<(u32, f64)> = seen
                     .polygons
                     .iter()
-                    .filter(|c| c.won > 0.0 && self.receivers.exposed[c.id as usize])
+                    .filter(|c| c.won > 0.0)
                     .map(|c| (c.id, c.won * s.area / self.receivers.areas[c.id as usize]))
                     .collect();
                 // No level limit here: once a cell is no larger than the
@@ -235,10 +236,12 @@ impl CellContext<'_> {
         leaves: &[Coverage],
         out: &mut Vec<(u32, f64)>,
     ) {
-        for (i, v) in visible_fractions(self.mesh, self.receivers, patches, leaves) {
-            if !self.receivers.exposed[i as usize] {
-                continue;
-            }
+        let eye = ShooterEye {
+            occluders: &self.receivers.occluders,
+            point: s.eye,
+            surface: self.surface,
+        };
+        for (i, v) in visible_fractions(self.receivers, patches, leaves, &eye) {
             let eye = self.receivers.eyes[i as usize];
             // A leaf behind the shooter's plane cannot receive from its front,
             // even when it inherits a visible fraction from its ancestors.

@@ -48,4 +48,4 @@ pub use settings::{ProgressiveSettings, SolverKind, MAX_SHOOTER_DEPTH};
 pub use shoot::{Shooter, ShotFactors, MAX_SHOOTER_SPLITS};
 pub use state::{Delivery, ShootingState};
 pub use stopping::{StopReason, Stopping};
-pub use visibility::{partly_visible, visible_fractions, RESOLVED_PIXELS};
+pub use visibility::{partly_visible, visible_fractions, ShooterEye, RESOLVED_PIXELS};

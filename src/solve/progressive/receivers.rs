@@ -8,10 +8,11 @@ use glam::DVec3;
 use rayon::prelude::*;
 use slotmap::SecondaryMap;
 use std::ops::Range;
+use std::sync::Arc;
 
 /// The leaf elements of a mesh as receivers. Rebuilt whenever the mesh is
 /// refined.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Receivers {
     /// Leaf keys, patch by patch (the order of [`Mesh::leaves`]).
     pub leaves: Vec<ElementKey>,
@@ -39,6 +40,8 @@ pub struct Receivers {
     /// receives nor shoots, as its empty row keeps it out of the exchange when
     /// gathering.
     pub exposed: Vec<bool>,
+    /// Every patch of `patch_sources` as an occluder, for shadow rays.
+    pub occluders: Arc<Occluders>,
 }
 
 impl Receivers {
@@ -89,6 +92,7 @@ impl Receivers {
             areas,
             reflectances,
             exposed,
+            occluders: Arc::new(occluders),
         }
     }
 

@@ -9,24 +9,21 @@
 //!
 //! A leaf that covers many pixels gets its own fraction `won / covered`. A leaf
 //! that covers only a few (or none: smaller than a pixel, as deep elements far
-//! from the shooter are) cannot be judged from its own pixels: taking them at
-//! face value would light it fully or not at all at random. Such a leaf takes
-//! the fraction of its nearest ancestor in the patch quadtree that covers
-//! enough pixels, which is the finest scale the item buffer resolves.
+//! from the shooter or seen edge-on are) cannot be judged from its own pixels:
+//! taking them at face value would light it fully or not at all at random.
+//! Such a leaf is judged by shadow rays from the eye to points spread over it
+//! instead. (Taking the fraction of its patch, as this once did, darkened the
+//! whole of a ceiling patch seen edge-on from a wall whenever the light hanging
+//! below part of it hid that part: the Cornell box's ceiling came out 2.5%
+//! darker than with gathering at uniform depth 1.)
 
 use super::Receivers;
 use crate::formfactor::hemicube::Coverage;
-use crate::mesh::{ElementKey, Mesh};
+use crate::formfactor::Occluders;
+use glam::DVec3;
 
 /// Pixels a quadtree node must cover for its own visible fraction to count.
 pub const RESOLVED_PIXELS: u32 = 4;
-
-#[derive(Clone, Copy, Default)]
-struct Sums {
-    won: f64,
-    covered: f64,
-    pixels: u32,
-}
 
 /// A patch whose won pixels add up to at least this fraction of its covered
 /// ones counts as fully visible (the sums differ only by rounding then).
@@ -43,6 +40,18 @@ pub fn partly_visible(patches: &[Coverage]) -> Vec<u32> {
         .collect()
 }
 
+/// The shooter's eye, for the shadow rays to leaves too small in its item
+/// buffer to judge by their pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct ShooterEye<'a> {
+    /// Every patch as an occluder.
+    pub occluders: &'a Occluders,
+    /// Where the eye is.
+    pub point: DVec3,
+    /// The shooter's surface (its rays never stop on it).
+    pub surface: u32,
+}
+
 /// The visible fraction of every leaf of every patch seen, as `(leaf index,
 /// fraction)` in increasing leaf order, leaving out leaves with nothing
 /// visible. `patches` is the patch-level coverage, `leaves` the leaf-level
@@ -50,86 +59,50 @@ pub fn partly_visible(patches: &[Coverage]) -> Vec<u32> {
 /// sorted by id.
 #[must_use]
 pub fn visible_fractions(
-    mesh: &Mesh,
     receivers: &Receivers,
     patches: &[Coverage],
     leaves: &[Coverage],
+    eye: &ShooterEye<'_>,
 ) -> Vec<(u32, f64)> {
     let mut out = Vec::new();
     for c in patches {
         if c.won <= 0.0 {
             continue;
         }
+        let range = receivers.patch_leaves[c.id as usize].clone();
         if c.won >= WHOLE * c.covered {
-            out.extend(
-                receivers.patch_leaves[c.id as usize]
-                    .clone()
-                    .map(|i| (i, 1.0)),
-            );
-        } else {
-            let root = mesh.patches[c.id as usize].root;
-            assign(mesh, receivers, leaves, root, None, true, &mut out);
+            out.extend(range.map(|i| (i, 1.0)));
+            continue;
+        }
+        for i in range {
+            let own = match leaves.binary_search_by_key(&i, |l| l.id) {
+                Ok(j) if leaves[j].pixels >= RESOLVED_PIXELS => {
+                    (leaves[j].won / leaves[j].covered).min(1.0)
+                }
+                _ => ray_fraction(receivers, i, eye),
+            };
+            if own > 0.0 {
+                out.push((i, own));
+            }
         }
     }
     out
 }
 
-fn leaf_sums(receivers: &Receivers, coverage: &[Coverage], key: ElementKey) -> Sums {
-    let Some(&i) = receivers.index.get(key) else {
-        return Sums::default();
-    };
-    match coverage.binary_search_by_key(&i, |c| c.id) {
-        Ok(j) => Sums {
-            won: coverage[j].won,
-            covered: coverage[j].covered,
-            pixels: coverage[j].pixels,
-        },
-        Err(_) => Sums::default(),
+/// The fraction of shadow rays from the eye to points spread over leaf `i`
+/// (its centroid, and halfway from there to each corner) that nothing blocks.
+fn ray_fraction(receivers: &Receivers, i: u32, eye: &ShooterEye<'_>) -> f64 {
+    let poly = &receivers.sources.polygons[i as usize];
+    let corners = &poly.vertices[..poly.count as usize];
+    let centroid = corners.iter().copied().sum::<DVec3>() / corners.len() as f64;
+    let skip = [eye.surface, poly.surface];
+    let sources = &receivers.patch_sources;
+    let clear = |p: DVec3| eye.occluders.clear(sources, eye.point, p, skip);
+    let points = std::iter::once(centroid).chain(corners.iter().map(|v| (centroid + *v) * 0.5));
+    let (mut open, mut total) = (0usize, 0usize);
+    for p in points {
+        total += 1;
+        open += usize::from(clear(p));
     }
-}
-
-fn sums(mesh: &Mesh, receivers: &Receivers, coverage: &[Coverage], key: ElementKey) -> Sums {
-    let e = &mesh.elements[key];
-    if e.is_leaf() {
-        return leaf_sums(receivers, coverage, key);
-    }
-    let mut s = Sums::default();
-    for &c in &e.children {
-        let t = sums(mesh, receivers, coverage, c);
-        s.won += t.won;
-        s.covered += t.covered;
-        s.pixels += t.pixels;
-    }
-    s
-}
-
-fn assign(
-    mesh: &Mesh,
-    receivers: &Receivers,
-    coverage: &[Coverage],
-    key: ElementKey,
-    inherited: Option<f64>,
-    is_root: bool,
-    out: &mut Vec<(u32, f64)>,
-) {
-    let s = sums(mesh, receivers, coverage, key);
-    let own = (s.covered > 0.0).then(|| (s.won / s.covered).min(1.0));
-    // The patch root always trusts its own pixels: there is nothing coarser.
-    let fraction = if is_root || s.pixels >= RESOLVED_PIXELS {
-        own
-    } else {
-        inherited
-    };
-    let e = &mesh.elements[key];
-    if e.is_leaf() {
-        if let (Some(f), Some(&i)) = (fraction, receivers.index.get(key)) {
-            if f > 0.0 {
-                out.push((i, f));
-            }
-        }
-        return;
-    }
-    for &c in &e.children {
-        assign(mesh, receivers, coverage, c, fraction, false, out);
-    }
+    open as f64 / total as f64
 }
