@@ -91,7 +91,7 @@ pub fn visible_fractions(
 
 /// The fraction of shadow rays from the eye to points spread over leaf `i`
 /// (its centroid, and halfway from there to each corner) that nothing blocks.
-fn ray_fraction(receivers: &Receivers, i: u32, eye: &ShooterEye<'_>) -> f64 {
+pub(super) fn ray_fraction(receivers: &Receivers, i: u32, eye: &ShooterEye<'_>) -> f64 {
     let poly = &receivers.sources.polygons[i as usize];
     let corners = &poly.vertices[..poly.count as usize];
     let centroid = corners.iter().copied().sum::<DVec3>() / corners.len() as f64;
