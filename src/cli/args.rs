@@ -235,6 +235,17 @@ pub struct SolveSettingsArgs {
     /// the shooting patch.
     #[arg(long = "shooter-depth", default_value_t = 1)]
     pub shooter_depth: u8,
+    /// Progressive: only shots carrying at least this fraction of the emitted
+    /// power shoot from the cells of --shooter-depth; lighter ones from one
+    /// cell per patch (0 makes every shot fine).
+    #[arg(long = "fine-shot-power", default_value_t = 1e-3)]
+    pub fine_shot_power: f64,
+    /// Progressive: at the first refinement pass every element gathers its
+    /// row (as gauss-seidel does) and later shots deliver by the rows, so the
+    /// solve converges to the gauss-seidel solution; off keeps shooter-side
+    /// hemi-cubes throughout.
+    #[arg(long = "gather-rows", default_value = "on", value_parser = ["on", "off"])]
+    pub gather_rows: String,
     /// Progressive: most mebibytes of form factors kept from each patch's shot
     /// for its next shots (0 renders every shot anew).
     #[arg(long = "shot-cache-mb", default_value_t = 256)]

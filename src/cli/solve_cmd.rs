@@ -62,6 +62,8 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             time_budget,
             preview_every: a.preview_every,
             shooter_depth: a.shooter_depth,
+            fine_shot_power: a.fine_shot_power,
+            gather_rows: a.gather_rows == "on",
             shot_cache_bytes: a.shot_cache_mb.saturating_mul(1 << 20),
             ..ProgressiveSettings::default()
         },

@@ -9,7 +9,7 @@ pub use preview::Preview;
 use super::{split_uniformly, PassStats, Progress, Settings, Solution, SolveStats, Stage};
 use crate::error::{Error, Result};
 use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
-use crate::formfactor::{compute_rows, RowSettings, Sources};
+use crate::formfactor::{compute_rows, Row, RowSettings, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, RefineSettings};
@@ -19,6 +19,7 @@ use crate::solve::progressive::{
     ShootingState, ShotCache, StopReason, Stopping,
 };
 use crate::solve::{push_up, GatherTotals, PatchSystem, SolveReport, SolverKind};
+use slotmap::SecondaryMap;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -54,6 +55,13 @@ struct Run<'a> {
     hemicube: HemicubeStats,
     shots: usize,
     row_sum_total: f64,
+    /// Whether every leaf has gathered its row once (see
+    /// `ProgressiveSettings::gather_rows`), or tried to.
+    rows_tried: bool,
+    /// Once rows are gathered, whether each leaf's row came out empty: the
+    /// gathering path's own test of a shut-in leaf, which then replaces the
+    /// shooter's fan of rays, so that both paths leave out the same leaves.
+    row_empty: SecondaryMap<ElementKey, bool>,
 }
 
 /// The progressive solve (see the module docs).
@@ -109,6 +117,8 @@ pub(crate) fn solve_progressive(
         hemicube: HemicubeStats::default(),
         shots: 0,
         row_sum_total: 0.0,
+        rows_tried: !ps.gather_rows,
+        row_empty: SecondaryMap::new(),
     };
     run.state.expose(&run.mesh, &run.receivers);
     run.stats.seconds.mesh = t.elapsed().as_secs_f64();
@@ -116,6 +126,7 @@ pub(crate) fn solve_progressive(
     let stopping = Stopping::new(ps, started);
     let adaptive = refine.uniform_depth.is_none();
     let mut fraction = run.state.unshot_fraction();
+    let initial_fraction = fraction;
     let mut last_pass_fraction = fraction;
     let mut next_history = fraction;
 
@@ -136,10 +147,15 @@ pub(crate) fn solve_progressive(
             last_pass_fraction = fraction;
             continue;
         }
-        if adaptive
-            && run.figures.passes.len() < refine.max_passes
-            && fraction <= ps.refine_factor * last_pass_fraction
-        {
+        let refining = adaptive && run.figures.passes.len() < refine.max_passes;
+        if !run.rows_tried && !refining && fraction <= ps.refine_factor * initial_fraction {
+            // No refinement pass to gather the rows at.
+            run.gather_rows(0);
+            shooter.forget_cells();
+            fraction = run.state.unshot_fraction();
+            continue;
+        }
+        if refining && fraction <= ps.refine_factor * last_pass_fraction {
             run.refine_pass(fraction);
             shooter.forget_cells();
             fraction = run.state.unshot_fraction();
@@ -274,6 +290,9 @@ impl Run<'_> {
         );
         self.stats.final_max_difference = marks.max_difference;
         if marks.split.is_empty() {
+            if !self.rows_tried {
+                self.gather_rows(self.figures.passes.len() + 1);
+            }
             return false;
         }
         let pass = self.figures.passes.len() + 1;
@@ -286,8 +305,42 @@ impl Run<'_> {
         }
         fresh.retain(|k| self.mesh.elements[*k].is_leaf());
 
+        let (change, new_hemicubes) = if self.rows_tried {
+            let rows = self.rows_for(&fresh, pass);
+            let change = adopt(&mut self.mesh, &mut self.state, &fresh, &rows);
+            self.cache.refine(&self.mesh, &fresh, &rows);
+            self.note_rows(&fresh, &rows);
+            (change, fresh.len())
+        } else {
+            self.gather_rows(pass)
+        };
+        self.receivers = Receivers::new(&self.mesh);
+        self.expose();
+        let emitted = self.state.emitted_power();
+        self.figures.passes.push(ShootingPass {
+            pass,
+            after_shots: self.shots,
+            unshot_fraction: fraction,
+            unshot_change: change.0.iter().sum::<f64>() / emitted,
+        });
+        self.stats.passes.push(PassStats {
+            pass,
+            split: marks.split.len(),
+            elements: self.receivers.len(),
+            new_hemicubes,
+            seconds: t_pass.elapsed().as_secs_f64(),
+            max_neighbour_difference: marks.max_difference,
+            blocked: marks.blocked,
+        });
+        true
+    }
+
+    /// Gathering rows for `keys` (hemi-cubes at the leaves, as the
+    /// Gauss-Seidel path renders them), with progress as refinement pass
+    /// `pass`.
+    fn rows_for(&mut self, keys: &[ElementKey], pass: usize) -> Vec<Row> {
         let t = Instant::now();
-        let total = fresh.len();
+        let total = keys.len();
         let progress = self.progress;
         let report = |done| {
             progress(Progress {
@@ -300,7 +353,7 @@ impl Run<'_> {
         let (rows, s) = compute_rows(
             &self.mesh,
             &self.patch_sources,
-            &fresh,
+            keys,
             &self.row_settings,
             &report,
         );
@@ -308,28 +361,51 @@ impl Run<'_> {
         self.hemicube.hemicubes += s.hemicubes;
         self.hemicube.polygons_rasterized += s.polygons_rasterized;
         self.hemicube.pixels_tested += s.pixels_tested;
+        rows
+    }
 
-        let change = adopt(&mut self.mesh, &mut self.state, &fresh, &rows);
-        self.cache.refine(&self.mesh, &fresh, &rows);
-        self.receivers = Receivers::new(&self.mesh);
+    /// Every leaf gathers its row (see `ProgressiveSettings::gather_rows`):
+    /// what has been shot is gathered again with the rows, and the rows
+    /// become the shots' factors. Returns the change in unshot power and the
+    /// number of rows.
+    fn gather_rows(&mut self, pass: usize) -> (Rgb, usize) {
+        self.rows_tried = true;
+        let leaves = self.mesh.leaves();
+        let rows = self.rows_for(&leaves, pass);
+        // What was shot is gathered again from the exposed part of each
+        // patch, as the rows find it.
+        self.note_rows(&leaves, &rows);
+        self.expose();
+        let change = adopt(&mut self.mesh, &mut self.state, &leaves, &rows);
+        if self.cache.gather(self.mesh.patches.len(), &leaves, &rows) {
+            self.figures.rows_gathered_after_shots = Some(self.shots);
+        } else {
+            // Too many for the budget: shots go on rendering, and what the
+            // cache held for leaves a pass just replaced is stale.
+            self.cache = ShotCache::new(
+                self.mesh.patches.len(),
+                self.settings.progressive.shot_cache_bytes,
+            );
+        }
+        (change, leaves.len())
+    }
+
+    /// Remembers which of `keys` gathered an empty row.
+    fn note_rows(&mut self, keys: &[ElementKey], rows: &[Row]) {
+        for (&k, row) in keys.iter().zip(rows) {
+            self.row_empty.insert(k, row.is_empty());
+        }
+    }
+
+    /// Takes the patches' exposed parts from the receivers, with the rows'
+    /// verdict in place of the fan of rays wherever a leaf has a row.
+    fn expose(&mut self) {
+        for (i, k) in self.receivers.leaves.iter().enumerate() {
+            if let Some(&empty) = self.row_empty.get(*k) {
+                self.receivers.exposed[i] = !empty;
+            }
+        }
         self.state.expose(&self.mesh, &self.receivers);
-        let emitted = self.state.emitted_power();
-        self.figures.passes.push(ShootingPass {
-            pass,
-            after_shots: self.shots,
-            unshot_fraction: fraction,
-            unshot_change: change.0.iter().sum::<f64>() / emitted,
-        });
-        self.stats.passes.push(PassStats {
-            pass,
-            split: marks.split.len(),
-            elements: self.receivers.len(),
-            new_hemicubes: fresh.len(),
-            seconds: t_pass.elapsed().as_secs_f64(),
-            max_neighbour_difference: marks.max_difference,
-            blocked: marks.blocked,
-        });
-        true
     }
 
     /// The solution: patch radiosities as leaf means, interior nodes filled

@@ -75,6 +75,35 @@ impl ShotCache {
         true
     }
 
+    /// Replaces every patch's factors by the transpose of the gathering rows
+    /// of `keys` (every leaf of the mesh), if they fit the budget; returns
+    /// whether they did. From then on every patch is served at any depth, and
+    /// a shot of patch `j` delivers to each leaf `e` by its row entry `F_ej`,
+    /// the factor the Gauss-Seidel path gathers with.
+    pub fn gather(&mut self, patches: usize, keys: &[ElementKey], rows: &[Row]) -> bool {
+        let entries: usize = rows.iter().map(Row::len).sum();
+        if entries > self.budget_entries {
+            return false;
+        }
+        let mut factors: Vec<Vec<(ElementKey, f64)>> = vec![Vec::new(); patches];
+        for (&k, row) in keys.iter().zip(rows) {
+            for &(j, f) in row.entries() {
+                factors[j as usize].push((k, f64::from(f)));
+            }
+        }
+        self.patches = factors
+            .into_iter()
+            .map(|factors| {
+                Some(Cached {
+                    depth: u8::MAX,
+                    factors,
+                })
+            })
+            .collect();
+        self.entries = entries;
+        true
+    }
+
     /// Brings the cache up to a refinement pass: entries of elements that are
     /// no longer leaves go, and each of the new leaves `fresh` (with its
     /// gathering row in `rows`) joins every cached patch its row sees.

@@ -9,6 +9,15 @@
 //! gathering. A patch's factors are kept for its later shots (within a byte
 //! budget), which then render nothing.
 //!
+//! Shooter-side hemi-cubes see the receivers from a few points of a large
+//! patch, which is where classic implementations lose accuracy in cluttered
+//! scenes. By default the shots turn to the gathering rows once the first
+//! quick shots are done (see [`ProgressiveSettings::gather_rows`]): at the
+//! first refinement pass every leaf renders its own hemi-cube, as in the
+//! Gauss-Seidel path, what has been shot is gathered again with the rows, and
+//! from then on a shot of patch `j` delivers `F_ej` from each leaf's row. The
+//! solve then converges to the Gauss-Seidel solution of its mesh.
+//!
 //! The parts, one file each:
 //!
 //! - [`settings`](ProgressiveSettings): [`SolverKind`], stopping rules, shooter

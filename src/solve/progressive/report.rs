@@ -56,6 +56,9 @@ pub struct ProgressiveStats {
     pub cached_shots: usize,
     /// Most bytes the kept form factors took.
     pub shot_cache_bytes: usize,
+    /// Shots before every leaf gathered its row and shots turned to the
+    /// rows (see `ProgressiveSettings::gather_rows`); `None` if they never did.
+    pub rows_gathered_after_shots: Option<usize>,
     /// Classic shooter cells split because a reciprocal form factor exceeded 1.
     pub shooter_splits: usize,
     /// Classic reciprocal form factors still above 1 at the lattice's finest

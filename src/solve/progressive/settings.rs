@@ -63,6 +63,14 @@ pub struct ProgressiveSettings {
     /// Most bytes of form factors kept from each patch's shot for its next
     /// shots (see `ShotCache`); 0 renders every shot anew.
     pub shot_cache_bytes: usize,
+    /// At the first refinement pass (on a uniform mesh: once the unshot
+    /// fraction has fallen by `refine_factor`), every leaf gathers its row, as
+    /// the Gauss-Seidel path does; what has been shot so far is gathered
+    /// again with the rows, and later shots deliver by them. The solve then
+    /// converges to the Gauss-Seidel solution itself, with shooter-side
+    /// hemi-cubes only for the first, quick shots. Needs the rows to fit in
+    /// `shot_cache_bytes`.
+    pub gather_rows: bool,
 }
 
 /// The deepest shooter cells allowed (`4^4 = 256` hemi-cubes per shot).
@@ -79,6 +87,7 @@ impl Default for ProgressiveSettings {
             fine_shot_power: 1e-3,
             refine_factor: 0.25,
             shot_cache_bytes: 256 << 20,
+            gather_rows: true,
         }
     }
 }
