@@ -304,18 +304,20 @@ impl Run<'_> {
             fresh.extend(self.mesh.elements[k].children.iter().copied());
         }
         fresh.retain(|k| self.mesh.elements[*k].is_leaf());
+        self.receivers = Receivers::new(&self.mesh);
 
         let (change, new_hemicubes) = if self.rows_tried {
             let rows = self.rows_for(&fresh, pass);
+            // The new leaves gather what was shot as it was shot: from the
+            // exposed parts the patches had then.
             let change = adopt(&mut self.mesh, &mut self.state, &fresh, &rows);
             self.cache.refine(&self.mesh, &fresh, &rows);
             self.note_rows(&fresh, &rows);
+            self.expose();
             (change, fresh.len())
         } else {
             self.gather_rows(pass)
         };
-        self.receivers = Receivers::new(&self.mesh);
-        self.expose();
         let emitted = self.state.emitted_power();
         self.figures.passes.push(ShootingPass {
             pass,
