@@ -123,10 +123,10 @@ impl CellContext<'_> {
         let seen = cube.coverage(first, s.eye, normal, s.angle, self.surface);
         if seen.back_faces > HIDDEN_EYE {
             let can_split = self.level_of(cell) < self.deepest && cell.size() >= 2;
-            // The eye is shut in (a point of the floor under a box): it sees
-            // nothing, but part of the cell may lie outside. Smaller cells find
-            // that part; what stays shut in at the deepest level is seen by no
-            // receiver, and shoots nothing, as it emits nothing when gathered.
+            // The eye is shut in though the cell's leaves are not (their
+            // centres lie outside the object, the cell's centre inside):
+            // smaller cells find the part outside; what is still shut in at the
+            // deepest level shoots only past the object's faces.
             if can_split {
                 r.counts.hidden_splits += 1;
                 for child in cell.children() {
