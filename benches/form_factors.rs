@@ -102,7 +102,7 @@ fn hemicube_stages(c: &mut Criterion) {
 }
 
 /// `compute_rows` for 256 elements spread through the room: hybrid rows at
-/// resolution 128 with emitter rays (the pipeline's default), on a pool of
+/// resolution 128 with emitter rays, on a pool of
 /// one and of two worker threads. Throughput is in rows.
 fn form_factor_rows(c: &mut Criterion) {
     let (mesh, sources) = prepared_mesh(0);

@@ -9,7 +9,8 @@ use std::time::Duration;
 
 /// `radiosity::solve` from the scene to element radiosities: a coarse uniform
 /// mesh (no subdivision, hemi-cube 64), the defaults (adaptive, tolerance 0.05,
-/// hemi-cube 128), and a fine uniform mesh (depth 2, hemi-cube 128).
+/// hemi-cube 64), the same with hemi-cubes of 128 (the earlier default), and
+/// a fine uniform mesh (depth 2, hemi-cube 128).
 fn solve_cornell(c: &mut Criterion) {
     let scene = cornell_box();
     let uniform = |depth: u8, resolution: usize| Settings {
@@ -22,7 +23,14 @@ fn solve_cornell(c: &mut Criterion) {
     };
     let cases = [
         ("uniform_depth0_res64", uniform(0, 64)),
-        ("default_adaptive_tol0.05_res128", Settings::default()),
+        ("default_adaptive_tol0.05_res64", Settings::default()),
+        (
+            "adaptive_tol0.05_res128",
+            Settings {
+                hemicube_resolution: 128,
+                ..Settings::default()
+            },
+        ),
         ("uniform_depth2_res128", uniform(2, 128)),
     ];
     let mut group = c.benchmark_group("solve_cornell_box");

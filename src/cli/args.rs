@@ -188,7 +188,7 @@ pub struct SolveArgs {
 #[derive(Args, Debug, Clone)]
 pub struct SolveSettingsArgs {
     /// Hemi-cube resolution: pixels across the top face (even).
-    #[arg(long = "hemicube-res", default_value_t = 128)]
+    #[arg(long = "hemicube-res", default_value_t = 64)]
     pub hemicube_res: usize,
     /// How hemi-cube pixels become form factors: hybrid (the hemi-cube decides
     /// visibility, Lambert's exact formula the magnitude) or hemicube (classic

@@ -46,7 +46,7 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Settings {
-            hemicube_resolution: 128,
+            hemicube_resolution: 64,
             patch_size: None,
             seed: 1,
             form_factors: FormFactorMethod::default(),
