@@ -122,8 +122,8 @@ fn six_patch_cube_converges_to_the_exact_solution() {
 
 #[test]
 fn agrees_with_gauss_seidel_per_surface_on_the_cornell_box() {
-    // At the default settings (what users run; measured 0.095% at most), and
-    // at the coarser settings of `coarse_cornell` (0.37%). The meshes differ
+    // At the default settings (what users run; measured 0.17% at most), and
+    // at the coarser settings of `coarse_cornell` (0.34%). The meshes differ
     // a little: the progressive solve refines while it shoots.
     let scene = scenes::cornell_box();
     for settings in [Settings::default(), coarse_cornell()] {
