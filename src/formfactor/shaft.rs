@@ -9,7 +9,7 @@
 //! a set of convex pieces whose form factors Lambert's contour formula gives.
 
 use super::point_to_polygon;
-use crate::math::clip_to_halfspace;
+use crate::math::{clip_in_place, clip_to_halfspace};
 use glam::DVec3;
 use smallvec::SmallVec;
 
@@ -84,32 +84,47 @@ impl<'a> Shaft<'a> {
         })
     }
 
+    /// True when a polygon within `radius` of `centre` lies wholly outside
+    /// one of the planes [`Self::shadow_of`] clips to, so that it hides
+    /// nothing: a shaft's bounding box holds many polygons its thin pyramid
+    /// misses, and this rejects them without touching their vertices. Kept
+    /// conservative by a relative margin, so that it never rejects a polygon
+    /// the clipping would keep.
+    pub(super) fn misses(&self, centre: DVec3, radius: f64) -> bool {
+        let r = radius * (1.0 + 1e-9) + 1e-12 * self.eye_height.abs();
+        let toward_eye = self.light_normal * self.eye_height.signum();
+        toward_eye.dot(centre - self.light[0]) < -r
+            || self.horizon.dot(centre - self.eye) < -r
+            || self.sides.iter().any(|n| n.dot(centre - self.eye) < -r)
+            || toward_eye.dot(centre - self.eye) > r
+    }
+
     /// The part of the light that `occluder` hides, as a convex polygon in the
     /// light's plane, or `None` if it hides nothing.
     pub(super) fn shadow_of(&self, occluder: &[DVec3]) -> Option<Piece> {
         // Keep the part strictly between the light's plane and the eye.
         let toward_eye = self.light_normal * self.eye_height.signum();
         let margin = 1e-9 * self.eye_height.abs();
-        let mut p: Piece =
-            clip_to_halfspace(occluder, self.light[0] + toward_eye * margin, toward_eye);
+        let mut p: Piece = SmallVec::from_slice(occluder);
+        clip_in_place(&mut p, self.light[0] + toward_eye * margin, toward_eye);
         if p.len() < 3 {
             return None;
         }
         // Without this, an occluder lying in the receiver's own plane (a
         // neighbouring surface) keeps a rounding-sized piece beside the eye,
         // which projects onto the whole light.
-        p = clip_to_halfspace(&p, self.eye, self.horizon);
+        clip_in_place(&mut p, self.eye, self.horizon);
         if p.len() < 3 {
             return None;
         }
         for n in &self.sides {
-            p = clip_to_halfspace(&p, self.eye, *n);
+            clip_in_place(&mut p, self.eye, *n);
             if p.len() < 3 {
                 return None;
             }
         }
         let near = self.eye - toward_eye * margin;
-        p = clip_to_halfspace(&p, near, -toward_eye);
+        clip_in_place(&mut p, near, -toward_eye);
         if p.len() < 3 {
             return None;
         }
@@ -187,6 +202,23 @@ pub(super) fn subtract(
     for piece in pieces.drain(..) {
         let mut rest = piece;
         for &(a, n) in &outward {
+            // Wholly on one side of the edge's plane (most pieces, for most
+            // edges): no clipping, and the same result as clipping.
+            let (mut ahead, mut behind) = (false, false);
+            for x in &rest {
+                let d = n.dot(*x - a);
+                ahead |= d >= 0.0;
+                behind |= d <= 0.0;
+            }
+            if !behind {
+                if rest.len() >= 3 && area(&rest) > min_area {
+                    out.push(std::mem::take(&mut rest));
+                }
+                break;
+            }
+            if !ahead {
+                continue;
+            }
             let outside = clip_to_halfspace(&rest, a, n);
             if outside.len() >= 3 && area(&outside) > min_area {
                 if outside.len() == rest.len() && same(&outside, &rest) {
@@ -235,6 +267,45 @@ mod tests {
             DVec3::new(x1, y1, z),
             DVec3::new(x0, y1, z),
         ]
+    }
+
+    #[test]
+    fn the_bounding_sphere_test_rejects_only_what_clipping_rejects() {
+        // Small triangles scattered through and around a shaft from the origin
+        // to a unit light at z = 2: whenever `misses` rejects one, clipping
+        // keeps nothing of it; and it rejects many.
+        let light = square(2.0, 0.0, 0.0, 1.0, 1.0);
+        let shaft = Shaft::new(DVec3::ZERO, DVec3::Z, &light, DVec3::Z).unwrap();
+        let mut state = 12345u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut rejected, mut kept_by_clipping) = (0, 0);
+        for _ in 0..4000 {
+            let c = DVec3::new(3.0 * next() - 1.0, 3.0 * next() - 1.0, 3.0 * next() - 0.5);
+            let size = 0.3 * next();
+            let tri: Vec<DVec3> = (0..3)
+                .map(|_| c + DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * size)
+                .collect();
+            let centre = tri.iter().copied().sum::<DVec3>() / 3.0;
+            let radius = tri
+                .iter()
+                .map(|v| (*v - centre).length())
+                .fold(0.0, f64::max);
+            let kept = shaft.shadow_of(&tri).is_some();
+            kept_by_clipping += usize::from(kept);
+            if shaft.misses(centre, radius) {
+                rejected += 1;
+                assert!(!kept, "rejected a triangle clipping keeps: {tri:?}");
+            }
+        }
+        assert!(
+            rejected > 2000 && kept_by_clipping > 100,
+            "{rejected} {kept_by_clipping}"
+        );
     }
 
     #[test]

@@ -221,7 +221,10 @@ impl Occluders {
             let first = node.first_index as usize;
             for slot in first..first + node.prim_count as usize {
                 let p = &sources.polygons[bvh.primitive_indices[slot] as usize];
-                if p.surface == own_surface || p.surface == poly.surface {
+                if p.surface == own_surface
+                    || p.surface == poly.surface
+                    || shaft.misses(p.centre, p.radius)
+                {
                     continue;
                 }
                 if let Some(shadow) = shaft.shadow_of(&p.vertices[..p.count as usize]) {

@@ -4,6 +4,7 @@ mod polygon;
 mod rgb;
 
 pub use polygon::{
-    clip_to_halfspace, is_convex, newell_normal, planarity_error, polygon_area, polygon_centroid,
+    clip_in_place, clip_to_halfspace, is_convex, newell_normal, planarity_error, polygon_area,
+    polygon_centroid,
 };
 pub use rgb::Rgb;

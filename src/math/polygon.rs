@@ -110,6 +110,29 @@ pub fn clip_to_halfspace(v: &[DVec3], p: DVec3, n: DVec3) -> SmallVec<[DVec3; 8]
     out
 }
 
+/// [`clip_to_halfspace`] in place. A polygon wholly inside the half-space is
+/// left as it is and one wholly outside is emptied, with nothing copied: in
+/// shaft clipping most clips are one or the other. The result is the copying
+/// form's, bit for bit.
+pub fn clip_in_place(v: &mut SmallVec<[DVec3; 8]>, p: DVec3, n: DVec3) {
+    let (mut inside, mut outside) = (false, false);
+    for x in v.iter() {
+        if n.dot(*x - p) >= 0.0 {
+            inside = true;
+        } else {
+            outside = true;
+        }
+    }
+    if !outside {
+        return;
+    }
+    if !inside {
+        v.clear();
+        return;
+    }
+    *v = clip_to_halfspace(v, p, n);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -121,6 +144,30 @@ mod tests {
             DVec3::new(2.0, 1.0, 0.0),
             DVec3::new(0.0, 1.0, 0.0),
         ]
+    }
+
+    #[test]
+    fn clipping_in_place_gives_the_copying_result() {
+        let s: SmallVec<[DVec3; 8]> = SmallVec::from_vec(square());
+        for (p, n) in [
+            (DVec3::new(1.0, 0.0, 0.0), DVec3::X),
+            (DVec3::new(1.0, 0.0, 0.0), DVec3::NEG_X),
+            (DVec3::new(-1.0, 0.0, 0.0), DVec3::X),
+            (DVec3::new(3.0, 0.0, 0.0), DVec3::X),
+            (
+                DVec3::new(0.5, 0.5, 0.0),
+                DVec3::new(1.0, 1.0, 0.0).normalize(),
+            ),
+            (DVec3::new(2.0, 0.0, 0.0), DVec3::X),
+        ] {
+            let mut v = s.clone();
+            clip_in_place(&mut v, p, n);
+            assert_eq!(
+                v.as_slice(),
+                clip_to_halfspace(&s, p, n).as_slice(),
+                "{p} {n}"
+            );
+        }
     }
 
     #[test]
