@@ -36,9 +36,10 @@ pub struct Receivers {
     pub reflectances: Vec<Rgb>,
     /// Whether each leaf is exposed: whether its receiving point sees anything
     /// but back faces (see `Occluders::is_shut_in`). A leaf that is not, such
-    /// as one under a box standing on it, is seen by nothing: it neither
-    /// receives nor shoots, as its empty row keeps it out of the exchange when
-    /// gathering.
+    /// as one under a box standing on it, does not shoot, as its empty row
+    /// keeps it out of the exchange when gathering; it receives only on the
+    /// part of it the shooters see (none, if it lies wholly under the box).
+    /// Once rows are gathered, the rows decide instead.
     pub exposed: Vec<bool>,
     /// Every patch of `patch_sources` as an occluder, for shadow rays.
     pub occluders: Arc<Occluders>,
