@@ -712,3 +712,40 @@ fn with_gathered_rows_it_converges_to_the_gauss_seidel_solution_itself() {
         );
     }
 }
+
+#[test]
+fn rows_that_do_not_fit_the_budget_leave_the_shots_rendering() {
+    // 64 KiB holds a few patches' factors but not every row: the switch to
+    // rows is refused, said so, and the solve still converges by rendering.
+    let scene = scenes::cornell_box();
+    let mesh = uniform(0.14, 1);
+    let gathered = radiosity::solve(&scene, &mesh, &|_| {}).unwrap();
+    let shot = radiosity::solve(
+        &scene,
+        &progressive(
+            mesh,
+            ProgressiveSettings {
+                shot_cache_bytes: 64 << 10,
+                ..ProgressiveSettings::default()
+            },
+        ),
+        &|_| {},
+    )
+    .unwrap();
+    let f = stats(&shot);
+    assert_eq!(f.stop, StopReason::Converged);
+    assert_eq!(f.rows_gathered_after_shots, None);
+    assert!(f.shot_cache_bytes <= 64 << 10);
+    assert!(f.cached_shots > 0, "what fits is still kept");
+    assert_eq!(f.unshot_increases, 0);
+    for (g, p) in gathered
+        .object_radiosity(&scene)
+        .iter()
+        .zip(shot.object_radiosity(&scene))
+    {
+        for band in 0..3 {
+            let d = rel(p.radiosity[band], g.radiosity[band]);
+            assert!(d < 0.01, "{} band {band}: {:.2}%", g.name, 100.0 * d);
+        }
+    }
+}
