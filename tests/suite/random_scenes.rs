@@ -1,6 +1,7 @@
 //! Randomised scenes: floating boxes in a closed, lit room with random
 //! reflectances. Whatever the layout, the structural invariants of the method
-//! must hold (algorithms.md 4.6).
+//! must hold (algorithms.md 4.6), and the progressive solver must meet the
+//! gathering one.
 
 use super::stress_scenes::{
     assert_finite_non_negative, energy_errors, leaves, quick_settings, room_faces, v,
@@ -9,6 +10,8 @@ use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 use radiosity::math::Rgb;
 use radiosity::scene::{Scene, SceneBuilder};
+use radiosity::solve::{ProgressiveSettings, SolverKind};
+use radiosity::{Settings, Solution};
 
 /// One floating box: its cell of a 2 x 2 grid on the floor (so boxes never
 /// overlap), its extent within the cell (fractions) and its reflectance.
@@ -135,6 +138,10 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     // pixel is worth up to 3e-4, and a box's silhouette crosses some 60 pixels.
     let mut worst_row: f64 = 0.0;
     for e in leaves(&sol) {
+        // A black receiver gets no row: it reflects nothing of what it sees.
+        if sol.mesh.surfaces[e.surface as usize].reflectance.max_band() == 0.0 {
+            continue;
+        }
         worst_row = worst_row.max((e.row.sum() - 1.0).abs());
     }
     prop_assert!(worst_row < 0.02, "row sum off by {}", worst_row);
@@ -179,6 +186,69 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
             );
         }
     }
+    check_progressive(&scene, &sol)
+}
+
+/// The progressive solver on the same scene: finite, never raising the unshot
+/// power, balancing energy, and meeting the gathering solution per object.
+fn check_progressive(scene: &Scene, gathered: &Solution) -> Result<(), TestCaseError> {
+    let settings = Settings {
+        solver_kind: SolverKind::Progressive,
+        progressive: ProgressiveSettings {
+            tolerance: 1e-5,
+            ..ProgressiveSettings::default()
+        },
+        ..quick_settings(0.5)
+    };
+    let shot = radiosity::solve(scene, &settings, &|_| {})
+        .map_err(|e| TestCaseError::fail(format!("progressive solve failed: {e}")))?;
+    assert_finite_non_negative(&shot, "random scene, progressive");
+    let f = shot
+        .stats
+        .progressive
+        .as_ref()
+        .expect("progressive figures");
+    prop_assert_eq!(f.unshot_increases, 0);
+    prop_assert!(f.rows_gathered_after_shots.is_some());
+    for (band, err) in energy_errors(&shot).iter().enumerate() {
+        prop_assert!(
+            err.abs() < 0.01,
+            "progressive band {}: energy balance {}",
+            band,
+            err
+        );
+    }
+    // Relative differences, with a floor of 1% of the brightest object's
+    // radiosity in the band: a nearly black wall's last digits are noise.
+    let objects = gathered.object_radiosity(scene);
+    let mut floor = [0.0f64; 3];
+    for o in &objects {
+        for (band, f) in floor.iter_mut().enumerate() {
+            *f = f.max(0.01 * o.radiosity[band]);
+        }
+    }
+    let mut worst: f64 = 0.0;
+    for (g, p) in objects.iter().zip(shot.object_radiosity(scene)) {
+        for band in 0..3 {
+            let (a, b) = (g.radiosity[band], p.radiosity[band]);
+            let d = (a - b).abs() / a.abs().max(floor[band]).max(1e-12);
+            worst = worst.max(d);
+            // Measured at most 0.89% over the ten scenes: the two solvers refine
+            // at different moments, so their meshes differ a little.
+            prop_assert!(
+                d < 0.02,
+                "{} band {}: progressive {} gathering {}",
+                g.name,
+                band,
+                b,
+                a
+            );
+        }
+    }
+    eprintln!(
+        "random scene, progressive: worst per-object difference {:.3}%",
+        100.0 * worst
+    );
     Ok(())
 }
 
