@@ -441,6 +441,10 @@ fn same_seed_gives_the_same_bits_at_any_thread_count() {
         pool.install(|| radiosity::solve(&scene, &s, &|_| {}).unwrap())
     };
     let (a, b) = (run(1), run(3));
+    assert!(
+        stats(&a).rows_gathered_after_shots.is_some(),
+        "the run reaches the rows"
+    );
     assert_eq!(a.patch_radiosity, b.patch_radiosity);
     let leaves = |s: &Solution| -> Vec<Rgb> {
         s.mesh
