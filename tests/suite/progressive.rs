@@ -46,6 +46,18 @@ fn coarse_cornell() -> Settings {
     }
 }
 
+/// The Gauss-Seidel and the progressive solution (with `p`) of `scene` at
+/// `settings`.
+fn gathered_and_shot(
+    scene: &radiosity::scene::Scene,
+    settings: &Settings,
+    p: ProgressiveSettings,
+) -> (Solution, Solution) {
+    let gathered = radiosity::solve(scene, settings, &|_| {}).unwrap();
+    let shot = radiosity::solve(scene, &progressive(settings.clone(), p), &|_| {}).unwrap();
+    (gathered, shot)
+}
+
 fn stats(sol: &Solution) -> &radiosity::solve::progressive::ProgressiveStats {
     sol.stats
         .progressive
@@ -132,13 +144,7 @@ fn agrees_with_gauss_seidel_per_surface_on_the_cornell_box() {
 }
 
 fn agrees_per_surface(scene: &radiosity::scene::Scene, settings: &Settings) {
-    let gathered = radiosity::solve(scene, settings, &|_| {}).unwrap();
-    let shot = radiosity::solve(
-        scene,
-        &progressive(settings.clone(), ProgressiveSettings::default()),
-        &|_| {},
-    )
-    .unwrap();
+    let (gathered, shot) = gathered_and_shot(scene, settings, ProgressiveSettings::default());
     let figures = stats(&shot);
     assert_eq!(figures.stop, StopReason::Converged);
     assert!(!figures.passes.is_empty(), "the test needs refinement");
@@ -459,29 +465,32 @@ fn same_seed_gives_the_same_bits_at_any_thread_count() {
 /// Two unit squares 5 cm apart, facing each other; the lower one emits 1 and
 /// neither reflects, so one shot decides everything.
 fn close_plates(gap: f64) -> radiosity::scene::Scene {
-    let mut b = radiosity::scene::SceneBuilder::new("plates");
+    let p = DVec3::new;
+    lamp_and_black_plate(&[
+        p(0., gap, 0.),
+        p(1., gap, 0.),
+        p(1., gap, 1.),
+        p(0., gap, 1.),
+    ])
+}
+
+/// A unit square lamp in the plane y = 0, facing +y and emitting 1, and a
+/// black single-sided plate with the corners `plate`.
+fn lamp_and_black_plate(plate: &[DVec3]) -> radiosity::scene::Scene {
+    let mut b = radiosity::scene::SceneBuilder::new("lamp_and_plate");
     let lamp = b
         .material("lamp", Rgb::ZERO, Rgb::splat(1.0 / std::f64::consts::PI))
         .unwrap();
     let black = b.material("black", Rgb::ZERO, Rgb::ZERO).unwrap();
     let p = DVec3::new;
-    b.object("lower");
+    b.object("lamp");
     b.polygon(
         lamp,
         &[p(0., 0., 0.), p(0., 0., 1.), p(1., 0., 1.), p(1., 0., 0.)],
     )
     .unwrap();
-    b.object("upper");
-    b.polygon(
-        black,
-        &[
-            p(0., gap, 0.),
-            p(1., gap, 0.),
-            p(1., gap, 1.),
-            p(0., gap, 1.),
-        ],
-    )
-    .unwrap();
+    b.object("plate");
+    b.polygon(black, plate).unwrap();
     b.build().unwrap()
 }
 
@@ -574,13 +583,8 @@ fn leaves_shut_in_under_the_blocks_are_the_leaves_gathering_leaves_out() {
     // leaves shoot nothing, and receive only on the part of them that sticks
     // out from under the block (less than half, as their centre is under it).
     let scene = scenes::cornell_box();
-    let gathered = radiosity::solve(&scene, &uniform(0.14, 2), &|_| {}).unwrap();
-    let shot = radiosity::solve(
-        &scene,
-        &progressive(uniform(0.14, 2), ProgressiveSettings::default()),
-        &|_| {},
-    )
-    .unwrap();
+    let (gathered, shot) =
+        gathered_and_shot(&scene, &uniform(0.14, 2), ProgressiveSettings::default());
     let receivers = Receivers::new(&shot.mesh);
     let floor = scene
         .surfaces
@@ -632,30 +636,13 @@ fn a_shooter_whose_eye_is_behind_a_receiver_still_lights_it_from_the_part_in_fro
     // back; yet the strip x in [0.6, 1] lights the plate's front. Exactly,
     // the plate receives A_strip F(strip -> plate) of the lamp's unit power,
     // with F the perpendicular-rectangles form factor (Howell C-14).
-    let mut b = radiosity::scene::SceneBuilder::new("cut_lamp");
-    let lamp = b
-        .material("lamp", Rgb::ZERO, Rgb::splat(1.0 / std::f64::consts::PI))
-        .unwrap();
-    let black = b.material("black", Rgb::ZERO, Rgb::ZERO).unwrap();
     let p = DVec3::new;
-    b.object("lamp");
-    b.polygon(
-        lamp,
-        &[p(0., 0., 0.), p(0., 0., 1.), p(1., 0., 1.), p(1., 0., 0.)],
-    )
-    .unwrap();
-    b.object("plate");
-    b.polygon(
-        black,
-        &[
-            p(0.6, 0., 0.),
-            p(0.6, 1., 0.),
-            p(0.6, 1., 1.),
-            p(0.6, 0., 1.),
-        ],
-    )
-    .unwrap();
-    let scene = b.build().unwrap();
+    let scene = lamp_and_black_plate(&[
+        p(0.6, 0., 0.),
+        p(0.6, 1., 0.),
+        p(0.6, 1., 1.),
+        p(0.6, 0., 1.),
+    ]);
     let exact = 0.4 * radiosity::analytic::perpendicular_rectangles(0.4, 1.0, 1.0).unwrap();
     let s = progressive(
         uniform(1.0, 4),
@@ -681,19 +668,14 @@ fn with_gathered_rows_it_converges_to_the_gauss_seidel_solution_itself() {
     // the rows were gathered leave no trace.
     let scene = scenes::cornell_box();
     let mesh = uniform(0.14, 2);
-    let gathered = radiosity::solve(&scene, &mesh, &|_| {}).unwrap();
-    let shot = radiosity::solve(
+    let (gathered, shot) = gathered_and_shot(
         &scene,
-        &progressive(
-            mesh,
-            ProgressiveSettings {
-                tolerance: 1e-7,
-                ..ProgressiveSettings::default()
-            },
-        ),
-        &|_| {},
-    )
-    .unwrap();
+        &mesh,
+        ProgressiveSettings {
+            tolerance: 1e-7,
+            ..ProgressiveSettings::default()
+        },
+    );
     let f = stats(&shot);
     let after = f.rows_gathered_after_shots.expect("rows were gathered");
     assert!(after > 0, "the first shots use shooter hemi-cubes");
@@ -723,19 +705,14 @@ fn rows_that_do_not_fit_the_budget_leave_the_shots_rendering() {
     // rows is refused, said so, and the solve still converges by rendering.
     let scene = scenes::cornell_box();
     let mesh = uniform(0.14, 1);
-    let gathered = radiosity::solve(&scene, &mesh, &|_| {}).unwrap();
-    let shot = radiosity::solve(
+    let (gathered, shot) = gathered_and_shot(
         &scene,
-        &progressive(
-            mesh,
-            ProgressiveSettings {
-                shot_cache_bytes: 64 << 10,
-                ..ProgressiveSettings::default()
-            },
-        ),
-        &|_| {},
-    )
-    .unwrap();
+        &mesh,
+        ProgressiveSettings {
+            shot_cache_bytes: 64 << 10,
+            ..ProgressiveSettings::default()
+        },
+    );
     let f = stats(&shot);
     assert_eq!(f.stop, StopReason::Converged);
     assert_eq!(f.rows_gathered_after_shots, None);
