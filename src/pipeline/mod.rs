@@ -7,6 +7,7 @@ mod progressive;
 mod settings;
 mod skips;
 mod solution;
+mod split_rows;
 mod stats;
 
 pub use coplanar::COPLANAR_GAP;
@@ -32,6 +33,7 @@ use crate::solve::{
     PatchSystem, SolveReport, SolverKind,
 };
 use skips::{RowPlan, RowTally};
+use split_rows::{update_rows_for_splits, SplitPatch};
 use std::time::Instant;
 
 /// Solves `scene` with `settings`, reporting progress through `progress`.
@@ -100,8 +102,16 @@ pub fn solve(
             if marks.is_empty() {
                 break;
             }
+            let mut splits = Vec::with_capacity(marks.len());
             for &p in &marks {
-                for id in mesh.split_patch(p) {
+                let polygon = mesh.patches[p as usize].polygon.clone();
+                let children = mesh.split_patch(p);
+                splits.push(SplitPatch {
+                    old: p,
+                    polygon,
+                    children,
+                });
+                for id in children {
                     // Give each new patch the initial element depth below it.
                     let top = mesh.elements[mesh.patches[id as usize].root].depth;
                     for k in mesh.patch_leaves(id) {
@@ -111,13 +121,16 @@ pub fn solve(
                     }
                 }
             }
-            // Rows refer to patches, so every row is recomputed.
+            // Rows refer to patches: their entries for the split patches are
+            // derived where they can be, and the rest rendered anew.
             sources = Sources::from_mesh(&mesh);
             plan.patches_changed(&mesh);
+            let t = Instant::now();
+            let anew = update_rows_for_splits(&mut mesh, &sources, &splits);
+            stats.seconds.form_factors += t.elapsed().as_secs_f64();
+            stats.seconds.form_factors +=
+                compute_and_store_rows(&mut mesh, &sources, &anew, &plan, &mut tally, 0, progress);
             let leaves = mesh.leaves();
-            stats.seconds.form_factors += compute_and_store_rows(
-                &mut mesh, &sources, &leaves, &plan, &mut tally, 0, progress,
-            );
             system = PatchSystem::from_mesh(&mesh);
             b = mesh.patches.iter().map(|p| p.radiosity).collect();
             (report, totals) =
@@ -127,6 +140,7 @@ pub fn solve(
                 patches_split: marks.len(),
                 patches: mesh.patches.len(),
                 elements: leaves.len(),
+                rows_rendered: anew.len(),
                 seconds: t_pass.elapsed().as_secs_f64(),
             });
         }

@@ -126,8 +126,12 @@ pub struct SourcePassStats {
     pub patches_split: usize,
     /// Patches after the round.
     pub patches: usize,
-    /// Leaf elements (all of which got new rows).
+    /// Leaf elements.
     pub elements: usize,
+    /// Leaves whose rows were rendered anew (new leaves, and those that saw a
+    /// split patch in part or a split emitter); the others had their entries
+    /// for the split patches derived exactly.
+    pub rows_rendered: usize,
     /// Seconds the round took.
     pub seconds: f64,
 }
