@@ -13,7 +13,8 @@ use glam::DVec3;
 use radiosity::analytic::lambert;
 use radiosity::math::Rgb;
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::Solution;
+use radiosity::solve::{ProgressiveSettings, SolverKind};
+use radiosity::{Settings, Solution};
 
 const FURNACE_RHO: f64 = 0.5;
 
@@ -445,4 +446,41 @@ fn emitters_1e12_apart_in_one_scene() {
     let objects = sol.object_radiosity(&scene);
     let dim = objects.iter().find(|o| o.name == "dim").unwrap();
     assert!(dim.radiosity[0] >= 1e-6 * std::f64::consts::PI);
+}
+
+#[test]
+fn the_progressive_solver_keeps_the_furnace_and_the_box_dark_beneath() {
+    // The same awkward scenes through the shooting solver: a furnace holding
+    // a rod of aspect 1000 stays uniform, and no light reaches the floor under
+    // a box standing on it, nor the part of a box pushed through the floor.
+    let shooting = |patch: f64| Settings {
+        solver_kind: SolverKind::Progressive,
+        progressive: ProgressiveSettings {
+            tolerance: 1e-6,
+            ..ProgressiveSettings::default()
+        },
+        ..quick_settings(patch)
+    };
+    let rod = furnace_with(|b| {
+        b.axis_box("rod", 0, v(0.5, 0.8, 1.0), v(1.5, 0.801, 1.001))
+            .unwrap();
+    });
+    let sol = radiosity::solve(&rod, &shooting(0.4), &|_| {}).unwrap();
+    assert_furnace(&sol, "rod, progressive");
+    for bottom in [0.0, -0.2] {
+        let scene = room_with_box_from(bottom);
+        let sol = radiosity::solve(&scene, &shooting(0.3), &|_| {}).unwrap();
+        assert_finite_non_negative(&sol, "box, progressive");
+        assert_no_light_under_the_box(&sol, "box, progressive");
+        for e in leaves(&sol) {
+            if e.surface >= 7 && e.centroid.y < 0.0 {
+                assert_eq!(
+                    e.radiosity.max_band(),
+                    0.0,
+                    "box below floor at {}",
+                    e.centroid
+                );
+            }
+        }
+    }
 }
