@@ -55,22 +55,32 @@ pub(crate) fn update_rows_for_splits(
     };
     let leaves = mesh.leaves();
     let mesh_ref = &*mesh;
-    let updates: Vec<Option<Row>> = leaves
+    let updates: Vec<Update> = leaves
         .par_iter()
         .map(|&k| derived_row(mesh_ref, sources, splits, &split_of, &emitter, k))
         .collect();
     let mut anew = Vec::new();
     for (k, update) in leaves.into_iter().zip(updates) {
         match update {
-            Some(row) => mesh.elements[k].row = row,
-            None => anew.push(k),
+            Update::Unchanged => {}
+            Update::Derived(row) => mesh.elements[k].row = row,
+            Update::Anew => anew.push(k),
         }
     }
     anew
 }
 
-/// The row of leaf `k` with its entries for the split patches derived, or
-/// `None` when it must be rendered anew.
+/// What a split does to one leaf's row.
+enum Update {
+    /// It saw no split patch.
+    Unchanged,
+    /// Its entries for the split patches, derived.
+    Derived(Row),
+    /// It must be rendered anew.
+    Anew,
+}
+
+/// What the splits do to the row of leaf `k`.
 fn derived_row(
     mesh: &Mesh,
     sources: &Sources,
@@ -78,10 +88,10 @@ fn derived_row(
     split_of: &[Option<usize>],
     emitter: &[bool],
     k: ElementKey,
-) -> Option<Row> {
+) -> Update {
     let e = &mesh.elements[k];
     if e.row.is_empty() {
-        return None;
+        return Update::Anew;
     }
     if !e
         .row
@@ -89,7 +99,7 @@ fn derived_row(
         .iter()
         .any(|&(j, _)| split_of[j as usize].is_some())
     {
-        return Some(e.row.clone());
+        return Update::Unchanged;
     }
     let normal = mesh.surfaces[e.surface as usize].normal;
     let eye = e.centroid + normal * (1e-6 * e.area.sqrt());
@@ -101,11 +111,11 @@ fn derived_row(
         };
         let split = &splits[i];
         if split.children.iter().any(|&c| emitter[c as usize]) {
-            return None;
+            return Update::Anew;
         }
         let whole = point_to_polygon(eye, normal, &split.polygon);
         if whole <= 0.0 || (f64::from(f) / whole - 1.0).abs() > WHOLE {
-            return None;
+            return Update::Anew;
         }
         for &c in &split.children {
             let poly = &sources.polygons[c as usize];
@@ -116,7 +126,7 @@ fn derived_row(
         }
     }
     entries.sort_unstable_by_key(|x| x.0);
-    Some(Row::from_sorted(entries).without_zeros())
+    Update::Derived(Row::from_sorted(entries).without_zeros())
 }
 
 #[cfg(test)]

@@ -218,9 +218,7 @@ impl Run<'_> {
             self.hemicube.hemicubes += shot.hemicubes;
             self.hemicube.polygons_rasterized += shot.polygons_rasterized;
             self.hemicube.pixels_tested += shot.pixels_tested;
-            if !self.cache.store(patch, depth, &keyed) {
-                rendered = Some(keyed);
-            }
+            rendered = self.cache.store(patch, depth, keyed).err();
         } else {
             self.figures.cached_shots += 1;
         }

@@ -59,20 +59,22 @@ impl ShotCache {
     }
 
     /// Keeps `factors` of `patch` (rendered at cell depth `depth`), replacing
-    /// what it held for the patch, if they fit the budget; returns whether
-    /// they were kept.
-    pub fn store(&mut self, patch: u32, depth: u8, factors: &[(ElementKey, f64)]) -> bool {
+    /// what it held for the patch, if they fit the budget; hands them back
+    /// when they do not.
+    pub fn store(
+        &mut self,
+        patch: u32,
+        depth: u8,
+        factors: Vec<(ElementKey, f64)>,
+    ) -> Result<(), Vec<(ElementKey, f64)>> {
         let slot = &mut self.patches[patch as usize];
         let old = slot.as_ref().map_or(0, |c| c.factors.len());
         if self.budget_entries == 0 || self.entries - old + factors.len() > self.budget_entries {
-            return false;
+            return Err(factors);
         }
         self.entries = self.entries - old + factors.len();
-        *slot = Some(Cached {
-            depth,
-            factors: factors.to_vec(),
-        });
-        true
+        *slot = Some(Cached { depth, factors });
+        Ok(())
     }
 
     /// Replaces every patch's factors by the transpose of the gathering rows
@@ -156,13 +158,13 @@ mod tests {
         let leaf = m.leaves()[0];
         let mut cache = ShotCache::new(m.patches.len(), 1 << 20);
         assert!(cache.get(3, 0).is_none());
-        assert!(cache.store(3, 1, &[(leaf, 0.25)]));
+        assert!(cache.store(3, 1, vec![(leaf, 0.25)]).is_ok());
         assert_eq!(cache.get(3, 0), Some(&[(leaf, 0.25)][..]));
         assert_eq!(cache.get(3, 1), Some(&[(leaf, 0.25)][..]));
         assert!(cache.get(3, 2).is_none(), "a finer shot must render");
         assert!(cache.get(2, 0).is_none());
         // Replacing a patch's factors counts its entries once.
-        assert!(cache.store(3, 2, &[(leaf, 0.5), (leaf, 0.125)]));
+        assert!(cache.store(3, 2, vec![(leaf, 0.5), (leaf, 0.125)]).is_ok());
         assert_eq!(cache.entries(), 2);
         assert_eq!(cache.bytes(), 2 * ENTRY_BYTES);
     }
@@ -172,14 +174,14 @@ mod tests {
         let m = mesh();
         let leaf = m.leaves()[0];
         let mut cache = ShotCache::new(m.patches.len(), 3 * ENTRY_BYTES);
-        assert!(cache.store(0, 0, &[(leaf, 0.1), (leaf, 0.2)]));
-        assert!(!cache.store(1, 0, &[(leaf, 0.1), (leaf, 0.2)]));
+        assert!(cache.store(0, 0, vec![(leaf, 0.1), (leaf, 0.2)]).is_ok());
+        assert!(cache.store(1, 0, vec![(leaf, 0.1), (leaf, 0.2)]).is_err());
         assert!(cache.get(1, 0).is_none());
-        assert!(cache.store(1, 0, &[(leaf, 0.3)]));
+        assert!(cache.store(1, 0, vec![(leaf, 0.3)]).is_ok());
         assert_eq!(cache.entries(), 3);
         // Nothing fits in no budget.
         let mut none = ShotCache::new(m.patches.len(), 0);
-        assert!(!none.store(0, 0, &[(leaf, 0.1)]));
+        assert!(none.store(0, 0, vec![(leaf, 0.1)]).is_err());
     }
 
     #[test]
@@ -188,8 +190,8 @@ mod tests {
         let leaves = m.leaves();
         let (a, b) = (leaves[0], leaves[1]);
         let mut cache = ShotCache::new(m.patches.len(), 1 << 20);
-        assert!(cache.store(5, 0, &[(a, 0.1), (b, 0.2)]));
-        assert!(cache.store(6, 0, &[(b, 0.3)]));
+        assert!(cache.store(5, 0, vec![(a, 0.1), (b, 0.2)]).is_ok());
+        assert!(cache.store(6, 0, vec![(b, 0.3)]).is_ok());
         let fresh = m.split(a);
         // Each child sees patches 5 and 7; patch 7 has nothing kept.
         let rows: Vec<Row> = (0..4)
