@@ -24,9 +24,9 @@ fn hemicube_pixels(resolution: usize) -> u64 {
 /// the room in turn, at resolutions 64, 128 and 256. Timed by the thread's
 /// CPU clock; throughput is in hemi-cube pixels per second of one core.
 fn hemicube_row(c: &mut Criterion) {
-    let (mesh, sources) = prepared_mesh(0);
+    let (mesh, _, sources) = prepared_mesh(0);
     let receivers = spread_leaves(&mesh, 16);
-    let patches = mesh.patches.len();
+    let patches = mesh.patches().len();
     let mut group = c.benchmark_group("hemicube_row");
     for resolution in [64, 128, 256] {
         group.throughput(Throughput::Elements(hemicube_pixels(resolution)));
@@ -34,9 +34,9 @@ fn hemicube_row(c: &mut Criterion) {
         let mut next = 0;
         group.bench_function(format!("res{resolution}/{patches}_patches"), |b| {
             iter_cpu(b, || {
-                let e = &mesh.elements[receivers[next % receivers.len()]];
+                let e = &mesh[receivers[next % receivers.len()]];
                 next += 1;
-                let normal = mesh.surfaces[e.surface as usize].normal;
+                let normal = mesh.surfaces()[e.surface as usize].normal;
                 black_box(cube.row(
                     &sources,
                     e.centroid + normal * 1e-6,
@@ -60,10 +60,10 @@ fn hemicube_row(c: &mut Criterion) {
 /// per-patch sums, as [`hemicube_row`]). Differences between them split the
 /// row's time. Timed by the thread's CPU clock.
 fn hemicube_stages(c: &mut Criterion) {
-    let (mesh, sources) = prepared_mesh(0);
+    let (mesh, _, sources) = prepared_mesh(0);
     let empty = radiosity::formfactor::Sources::default();
     let receivers = spread_leaves(&mesh, 16);
-    let patches = mesh.patches.len();
+    let patches = mesh.patches().len();
     let mut group = c.benchmark_group("hemicube_stages");
     for resolution in [64, 128, 256] {
         group.throughput(Throughput::Elements(hemicube_pixels(resolution)));
@@ -72,9 +72,9 @@ fn hemicube_stages(c: &mut Criterion) {
             let mut next = 0;
             group.bench_function(format!("res{resolution}/{stage}"), |b| {
                 iter_cpu(b, || {
-                    let e = &mesh.elements[receivers[next % receivers.len()]];
+                    let e = &mesh[receivers[next % receivers.len()]];
                     next += 1;
-                    let normal = mesh.surfaces[e.surface as usize].normal;
+                    let normal = mesh.surfaces()[e.surface as usize].normal;
                     let eye = e.centroid + normal * 1e-6;
                     match stage {
                         "clear" => cube.render_stage::<false>(&empty, eye, normal, 0.3, e.surface),
@@ -105,7 +105,7 @@ fn hemicube_stages(c: &mut Criterion) {
 /// resolution 128 with emitter rays, on a pool of
 /// one and of two worker threads. Throughput is in rows.
 fn form_factor_rows(c: &mut Criterion) {
-    let (mesh, sources) = prepared_mesh(0);
+    let (mesh, _, sources) = prepared_mesh(0);
     let keys = spread_leaves(&mesh, 256);
     let settings = row_settings(128);
     let mut group = c.benchmark_group("form_factor_rows");
@@ -118,7 +118,7 @@ fn form_factor_rows(c: &mut Criterion) {
         let name = format!(
             "hybrid_res128/{}_rows/{}_patches/{threads}_threads",
             keys.len(),
-            mesh.patches.len()
+            mesh.patches().len()
         );
         group.bench_function(name, |b| {
             b.iter(|| {

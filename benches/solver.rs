@@ -8,7 +8,7 @@ mod bench_scene;
 use bench_scene::prepared_mesh;
 use criterion::{criterion_group, criterion_main, Criterion};
 use radiosity::math::Rgb;
-use radiosity::solve::{gather, gauss_seidel, PatchSystem, SolverSettings};
+use radiosity::solve::{gather, gauss_seidel, PatchSystem, Radiosity, SolverSettings};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -16,8 +16,8 @@ use std::time::Duration;
 /// place), and a whole `gauss_seidel` solve from the emission down to the
 /// default 1e-5 error bound.
 fn gauss_seidel_bench(c: &mut Criterion) {
-    let (mesh, _) = prepared_mesh(0);
-    let system = PatchSystem::from_mesh(&mesh);
+    let (mesh, form_factors, _) = prepared_mesh(0);
+    let system = PatchSystem::from_mesh(&mesh, &form_factors);
     let n = system.len();
     let settings = SolverSettings::default();
     let mut probe = system.emission.clone();
@@ -47,17 +47,18 @@ fn gauss_seidel_bench(c: &mut Criterion) {
 /// One gather from the solved patches to every leaf (patches split to depth 1,
 /// four elements each), on every worker thread.
 fn gather_bench(c: &mut Criterion) {
-    let (mut mesh, _) = prepared_mesh(1);
-    let system = PatchSystem::from_mesh(&mesh);
+    let (mesh, form_factors, _) = prepared_mesh(1);
+    let system = PatchSystem::from_mesh(&mesh, &form_factors);
+    let mut radiosity = Radiosity::emitted(&mesh);
     let mut b = system.emission.clone();
     gauss_seidel(&system, &mut b, &SolverSettings::default()).expect("converges");
     let name = format!(
         "{}_elements/{}_patches",
         mesh.leaf_count(),
-        mesh.patches.len()
+        mesh.patches().len()
     );
     c.benchmark_group("gather").bench_function(name, |bench| {
-        bench.iter(|| black_box(gather(&mut mesh, &b)));
+        bench.iter(|| black_box(gather(&mesh, &form_factors, &mut radiosity, &b)));
     });
 }
 

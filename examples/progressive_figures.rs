@@ -31,9 +31,9 @@ fn leaf_values(p: &Preview<'_>) -> (Vec<Rgb>, Vec<Rgb>, Vec<f64>) {
     let mut rho = Vec::new();
     let mut area = Vec::new();
     for k in p.mesh.leaves() {
-        let e = &p.mesh.elements[k];
-        b.push(e.radiosity);
-        rho.push(p.mesh.surfaces[e.surface as usize].reflectance);
+        let e = &p.mesh[k];
+        b.push(p.radiosity.element(k));
+        rho.push(p.mesh.surfaces()[e.surface as usize].reflectance);
         area.push(e.area);
     }
     (b, rho, area)
@@ -121,17 +121,19 @@ fn main() {
         }
     })
     .expect("progressive");
-    let stats = pr.stats.progressive.as_ref().expect("progressive stats");
+    let stats = pr.stats().progressive.as_ref().expect("progressive stats");
 
     println!(
         "patch size {:.4} m, uniform depth {depth:?}, shooter depth {shooter_depth}, {method:?}: \
          {} patches, {} leaves",
-        pr.stats.patch_size, pr.stats.patches, pr.stats.elements
+        pr.stats().patch_size,
+        pr.stats().patches,
+        pr.stats().elements
     );
     println!(
         "Gauss-Seidel {gs_seconds:.2} s; progressive {:.2} s, {} shots, {} shot hemi-cubes, \
          unshot {:.2e}, stop {:?}",
-        pr.stats.seconds.total,
+        pr.stats().seconds.total,
         stats.shots,
         stats.shot_hemicubes,
         stats.unshot_fraction,
@@ -174,12 +176,7 @@ fn main() {
         return;
     }
 
-    let converged: Vec<Rgb> = pr
-        .mesh
-        .leaves()
-        .iter()
-        .map(|k| pr.mesh.elements[*k].radiosity)
-        .collect();
+    let converged: Vec<Rgb> = pr.leaves().iter().map(|l| l.radiosity).collect();
     let converged_mean = mean_luminance(&converged, &areas);
     let first = &snapshots[0];
     let with_ambient = |s: &Snapshot| -> Vec<Rgb> {

@@ -140,7 +140,7 @@ fn main() {
     let sol = pool
         .install(|| radiosity::solve(&scene, &settings, &|_| {}))
         .unwrap();
-    let s = &sol.stats;
+    let s = &sol.stats();
     let out = serde_json::json!({
         "scene": name,
         "skips": s.skips,

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 use radiosity::formfactor::hemicube::DeltaTable;
-use radiosity::formfactor::{compute_rows, FormFactorMethod, RowSettings, Sources};
+use radiosity::formfactor::{compute_rows, FormFactorMethod, FormFactors, RowSettings, Sources};
 use radiosity::math::Rgb;
 use radiosity::mesh::{ElementKey, Mesh};
 use radiosity::scene::{Scene, SceneBuilder};
@@ -74,7 +74,7 @@ pub fn room_with_boxes() -> Scene {
 
 /// The room's mesh at [`PATCH_SIZE`], split to `depth`, with every leaf's
 /// hybrid row at resolution 128 computed and stored, and its sources.
-pub fn prepared_mesh(depth: u8) -> (Mesh, Sources) {
+pub fn prepared_mesh(depth: u8) -> (Mesh, FormFactors, Sources) {
     let scene = room_with_boxes();
     let mut mesh = Mesh::new(&scene, PATCH_SIZE, 100_000).expect("the mesh fits");
     for _ in 0..depth {
@@ -85,10 +85,11 @@ pub fn prepared_mesh(depth: u8) -> (Mesh, Sources) {
     let sources = Sources::from_mesh(&mesh);
     let leaves = mesh.leaves();
     let (rows, _) = compute_rows(&mesh, &sources, &leaves, &row_settings(128), &|_| {});
-    for (k, row) in leaves.iter().zip(rows) {
-        mesh.elements[*k].row = row;
+    let mut form_factors = FormFactors::new();
+    for (k, row) in leaves.into_iter().zip(rows) {
+        form_factors.set_row(k, row);
     }
-    (mesh, sources)
+    (mesh, form_factors, sources)
 }
 
 /// Hybrid rows with emitter rays, as the pipeline computes them by default.

@@ -64,7 +64,7 @@ pub fn run(a: &BakeArgs) -> Result<()> {
                 "{}: {} elements -> {} vertices, {} triangles, {} bytes ({} colour); \
                  solved in {solved:.3} s, baked in {:.3} s; wrote {}",
                 scene.name,
-                solution.stats.elements,
+                solution.stats().elements,
                 summary.vertices,
                 summary.triangles,
                 summary.bytes,

@@ -207,7 +207,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
     let t = Instant::now();
     let mesh = radiance_mesh(&solution);
     let segments = if a.mesh_out.is_some() {
-        solution.mesh.leaf_edges()
+        solution.mesh().leaf_edges()
     } else {
         Vec::new()
     };
@@ -219,7 +219,7 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
     outputs.append(&mut written);
     let render_seconds = t.elapsed().as_secs_f64();
 
-    let s: &SolveStats = &solution.stats;
+    let s: &SolveStats = solution.stats();
     let json = a.out.join(format!("{}.json", scene.name));
     outputs.push(json.display().to_string());
     let report = Report {

@@ -11,6 +11,7 @@ mod row;
 mod rows;
 mod shaft;
 mod sources;
+mod store;
 mod unoccluded;
 mod visibility;
 
@@ -21,5 +22,6 @@ pub use quadrature::{element_samples, Samples};
 pub use row::Row;
 pub use rows::{compute_rows, compute_rows_with, element_seed, RowSettings, RowSkips};
 pub use sources::{SourcePolygon, Sources};
+pub use store::{FormFactors, RowState};
 pub use unoccluded::{is_convex_enclosure, scene_scale, unoccluded_row, CONVEX_TOLERANCE};
 pub use visibility::{EmitterVisibility, Occluders, PixelHint};

@@ -1,8 +1,6 @@
 //! Patches and elements.
 
 use super::cell::Cell;
-use crate::formfactor::Row;
-use crate::math::Rgb;
 use glam::DVec3;
 use smallvec::SmallVec;
 
@@ -25,8 +23,6 @@ pub struct Patch {
     pub area: f64,
     /// Area centroid.
     pub centroid: DVec3,
-    /// Solved radiosity (exitance), per band.
-    pub radiosity: Rgb,
 }
 
 /// A quadtree node. Leaves are receivers with a hemi-cube row each.
@@ -48,11 +44,6 @@ pub struct Element {
     pub area: f64,
     /// Area centroid (where its hemi-cube sits).
     pub centroid: DVec3,
-    /// Radiosity from the last gather (leaves), or the area-weighted mean of the
-    /// children (interior nodes, after a gather).
-    pub radiosity: Rgb,
-    /// Element-to-patch form factors (leaves only; empty until computed).
-    pub row: Row,
 }
 
 impl Element {

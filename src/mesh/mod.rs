@@ -20,19 +20,30 @@ use crate::math::{polygon_area, polygon_centroid, Rgb};
 use crate::scene::Scene;
 use slotmap::SlotMap;
 
-/// Surfaces, patches and element quadtrees of one scene.
+/// Surfaces, patches and element quadtrees of one scene: geometry and
+/// topology only (form factors and radiosities are kept by the stages that
+/// compute them, keyed by [`ElementKey`]).
 #[derive(Clone, Debug)]
 pub struct Mesh {
     /// One lattice per scene surface, same order as `Scene::surfaces`.
-    pub surfaces: Vec<SurfaceLattice>,
+    pub(crate) surfaces: Vec<SurfaceLattice>,
     /// All patches, surface by surface.
-    pub patches: Vec<Patch>,
+    pub(crate) patches: Vec<Patch>,
     /// The element arena.
-    pub elements: SlotMap<ElementKey, Element>,
+    pub(crate) elements: SlotMap<ElementKey, Element>,
     /// The roots of the element quadtrees, one per cell of the initial patch
     /// cut, in surface order. Patches start as these roots; a split patch hands
     /// its role to its children, but the trees keep these roots.
-    pub top_roots: Vec<ElementKey>,
+    pub(crate) top_roots: Vec<ElementKey>,
+}
+
+impl std::ops::Index<ElementKey> for Mesh {
+    type Output = Element;
+
+    /// The element `key` names. Panics for a key of another mesh.
+    fn index(&self, key: ElementKey) -> &Element {
+        &self.elements[key]
+    }
 }
 
 impl Mesh {
@@ -82,7 +93,6 @@ impl Mesh {
                     polygon: mesh.surfaces[si].polygon(&cell),
                     area: e.area,
                     centroid: e.centroid,
-                    radiosity: mesh.surfaces[si].emission,
                 };
                 mesh.patches.push(p);
             }
@@ -100,7 +110,6 @@ impl Mesh {
     ) -> ElementKey {
         let lattice = &self.surfaces[surface as usize];
         let polygon = lattice.polygon(&cell);
-        let radiosity = parent.map_or(lattice.emission, |p| self.elements[p].radiosity);
         self.elements.insert(Element {
             surface,
             patch,
@@ -110,13 +119,11 @@ impl Mesh {
             depth,
             area: polygon_area(&polygon),
             centroid: polygon_centroid(&polygon),
-            radiosity,
-            row: Default::default(),
         })
     }
 
-    /// Splits a leaf into four children, which inherit its radiosity and start
-    /// with empty form-factor rows. Returns the children.
+    /// Splits a leaf into four children and returns them. (Its form-factor
+    /// row, if any, is now stale: see [`crate::formfactor::FormFactors::forget`].)
     pub fn split(&mut self, key: ElementKey) -> [ElementKey; 4] {
         let (surface, patch, cell, depth) = {
             let e = &self.elements[key];
@@ -128,7 +135,6 @@ impl Mesh {
             .map(|c| self.insert_element(surface, patch, Some(key), c, depth + 1));
         let e = &mut self.elements[key];
         e.children.extend_from_slice(&kids);
-        e.row = Default::default();
         kids
     }
 
@@ -153,7 +159,7 @@ impl Mesh {
             };
             ids[i] = id;
             let e = &self.elements[k];
-            let (area, centroid, radiosity) = (e.area, e.centroid, e.radiosity);
+            let (area, centroid) = (e.area, e.centroid);
             let polygon = self.surfaces[surface as usize].polygon(&e.cell);
             self.patches[id as usize] = Patch {
                 surface,
@@ -161,7 +167,6 @@ impl Mesh {
                 polygon,
                 area,
                 centroid,
-                radiosity,
             };
             let mut stack = vec![k];
             while let Some(x) = stack.pop() {
@@ -170,6 +175,35 @@ impl Mesh {
             }
         }
         ids
+    }
+
+    /// One lattice per scene surface, in the order of `Scene::surfaces`.
+    #[must_use]
+    pub fn surfaces(&self) -> &[SurfaceLattice] {
+        &self.surfaces
+    }
+
+    /// Every patch, by patch id.
+    #[must_use]
+    pub fn patches(&self) -> &[Patch] {
+        &self.patches
+    }
+
+    /// The element `key` names, if it is one of this mesh's.
+    #[must_use]
+    pub fn element(&self, key: ElementKey) -> Option<&Element> {
+        self.elements.get(key)
+    }
+
+    /// Every element node, leaves and interior nodes, with its key.
+    pub fn elements(&self) -> impl Iterator<Item = (ElementKey, &Element)> {
+        self.elements.iter()
+    }
+
+    /// Number of element nodes, leaves and interior nodes.
+    #[must_use]
+    pub fn element_count(&self) -> usize {
+        self.elements.len()
     }
 
     /// The leaf elements of patch `p`, depth first in child order.

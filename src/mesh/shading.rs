@@ -60,16 +60,18 @@ fn probe_beside(a: (u32, u32), b: (u32, u32), outward: (i64, i64)) -> Probe {
 }
 
 impl Mesh {
-    /// Vertex radiosities of the current leaves (see the module docs).
+    /// Vertex radiosities of the current leaves, whose own values `leaf`
+    /// gives (see the module docs).
     #[must_use]
-    pub fn vertex_radiosity(&self) -> VertexRadiosity {
+    pub fn vertex_radiosity(&self, leaf: impl Fn(ElementKey) -> Rgb) -> VertexRadiosity {
         let mut sums: HashMap<VertexId, (Rgb, f64)> = HashMap::new();
         let leaves = self.leaves();
         for &k in &leaves {
             let e = &self.elements[k];
+            let value = leaf(k);
             for c in e.cell.corners() {
                 let s = sums.entry((e.surface, c.0, c.1)).or_default();
-                s.0 += e.radiosity * e.area;
+                s.0 += value * e.area;
                 s.1 += e.area;
             }
         }

@@ -14,6 +14,7 @@ use super::Solution;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh, Probe, SurfaceLattice, VertexRadiosity, MAX_DEPTH};
+use crate::solve::Radiosity;
 use glam::DVec3;
 use smallvec::SmallVec;
 
@@ -87,13 +88,13 @@ impl Solution {
     /// A prober with the default [`ProbeTolerance`].
     #[must_use]
     pub fn probe(&self) -> SolutionProbe<'_> {
-        SolutionProbe::build(&self.mesh, ProbeTolerance::default())
+        SolutionProbe::build(&self.mesh, &self.radiosity, ProbeTolerance::default())
     }
 
     /// A prober with the given tolerances. Fails if they are out of range.
     pub fn probe_with(&self, tolerance: ProbeTolerance) -> Result<SolutionProbe<'_>> {
         tolerance.validate()?;
-        Ok(SolutionProbe::build(&self.mesh, tolerance))
+        Ok(SolutionProbe::build(&self.mesh, &self.radiosity, tolerance))
     }
 
     /// The radiosity at `point` on the surface facing `normal`, interpolated
@@ -107,7 +108,7 @@ impl Solution {
 }
 
 impl<'a> SolutionProbe<'a> {
-    fn build(mesh: &'a Mesh, tolerance: ProbeTolerance) -> Self {
+    fn build(mesh: &'a Mesh, radiosity: &Radiosity, tolerance: ProbeTolerance) -> Self {
         let (lo, hi) = mesh
             .surfaces
             .iter()
@@ -122,7 +123,7 @@ impl<'a> SolutionProbe<'a> {
         };
         SolutionProbe {
             mesh,
-            vertices: mesh.vertex_radiosity(),
+            vertices: mesh.vertex_radiosity(|k| radiosity.element(k)),
             distance: tolerance.relative_distance * diagonal,
             min_cosine: tolerance.normal_degrees.to_radians().cos(),
         }

@@ -99,6 +99,13 @@ impl Settings {
                 format!("must lie in (0, 2), got {}", s.relaxation),
             );
         }
+        if self.solver_kind == SolverKind::Progressive && self.refine.source_tolerance.is_some() {
+            return bad(
+                "source-tolerance",
+                "source-patch splitting applies to the gathering solver (gauss-seidel) only"
+                    .to_string(),
+            );
+        }
         if let Some(n) = self.bounces {
             crate::solve::bounces::check_bounces(n)?;
             if self.solver_kind == SolverKind::Progressive {

@@ -9,6 +9,7 @@ use crate::formfactor::{
 };
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
+use crate::solve::SolverKind;
 use std::sync::Arc;
 
 /// Which work a solve may leave out. Each skip gives the answer of the full
@@ -90,9 +91,14 @@ pub(crate) struct RowPlan {
 impl RowPlan {
     /// The plan for `mesh` under `settings`. The patch flags must be brought
     /// up to date with [`RowPlan::patches_changed`] when patches are split.
+    ///
+    /// The progressive solver tracks the irradiance of every leaf for its
+    /// energy balance and shoots in three bands, so surfaces that reflect
+    /// nothing get rows there and no solve runs on one band.
     pub fn new(mesh: &Mesh, settings: &Settings) -> Self {
         let skips = &settings.skips;
-        let rowless_surface = if skips.zero_reflectance {
+        let gathering = settings.solver_kind == SolverKind::GaussSeidel;
+        let rowless_surface = if skips.zero_reflectance && gathering {
             rowless_surfaces(mesh)
         } else {
             vec![false; mesh.surfaces.len()]
@@ -115,6 +121,7 @@ impl RowPlan {
             rowless_surface,
             rowless_patch: None,
             grey: skips.grey
+                && gathering
                 && mesh
                     .surfaces
                     .iter()
@@ -134,15 +141,14 @@ impl RowPlan {
         });
     }
 
-    /// The keys that need rows, and how many were left out.
-    pub fn needing_rows(&self, mesh: &Mesh, keys: &[ElementKey]) -> (Vec<ElementKey>, usize) {
-        let kept: Vec<ElementKey> = keys
-            .iter()
-            .copied()
-            .filter(|k| !self.rowless_surface[mesh.elements[*k].surface as usize])
-            .collect();
-        let left_out = keys.len() - kept.len();
-        (kept, left_out)
+    /// The keys that need rows, and those left out.
+    pub fn needing_rows(
+        &self,
+        mesh: &Mesh,
+        keys: &[ElementKey],
+    ) -> (Vec<ElementKey>, Vec<ElementKey>) {
+        keys.iter()
+            .partition(|k| !self.rowless_surface[mesh.elements[**k].surface as usize])
     }
 }
 

@@ -12,7 +12,7 @@
 //! emitter (whose entries come from exact shaft visibility), and elements
 //! without a row yet, need their hemi-cube rendered again.
 
-use crate::formfactor::{point_to_polygon, Row, Sources};
+use crate::formfactor::{point_to_polygon, FormFactors, Row, RowState, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -38,7 +38,8 @@ const WHOLE: f64 = 1e-6;
 /// leaves whose rows must be computed anew. `sources` are the patches after
 /// the split.
 pub(crate) fn update_rows_for_splits(
-    mesh: &mut Mesh,
+    mesh: &Mesh,
+    form_factors: &mut FormFactors,
     sources: &Sources,
     splits: &[SplitPatch],
 ) -> Vec<ElementKey> {
@@ -54,16 +55,16 @@ pub(crate) fn update_rows_for_splits(
         e
     };
     let leaves = mesh.leaves();
-    let mesh_ref = &*mesh;
+    let store = &*form_factors;
     let updates: Vec<Update> = leaves
         .par_iter()
-        .map(|&k| derived_row(mesh_ref, sources, splits, &split_of, &emitter, k))
+        .map(|&k| derived_row(mesh, store, sources, splits, &split_of, &emitter, k))
         .collect();
     let mut anew = Vec::new();
     for (k, update) in leaves.into_iter().zip(updates) {
         match update {
             Update::Unchanged => {}
-            Update::Derived(row) => mesh.elements[k].row = row,
+            Update::Derived(row) => form_factors.set_row(k, row),
             Update::Anew => anew.push(k),
         }
     }
@@ -72,7 +73,8 @@ pub(crate) fn update_rows_for_splits(
 
 /// What a split does to one leaf's row.
 enum Update {
-    /// It saw no split patch.
+    /// It saw no split patch, or it has no row to change: it needs none
+    /// (reflects nothing) or it sees nothing (shut in).
     Unchanged,
     /// Its entries for the split patches, derived.
     Derived(Row),
@@ -83,28 +85,30 @@ enum Update {
 /// What the splits do to the row of leaf `k`.
 fn derived_row(
     mesh: &Mesh,
+    form_factors: &FormFactors,
     sources: &Sources,
     splits: &[SplitPatch],
     split_of: &[Option<usize>],
     emitter: &[bool],
     k: ElementKey,
 ) -> Update {
-    let e = &mesh.elements[k];
-    if e.row.is_empty() {
-        return Update::Anew;
-    }
-    if !e
-        .row
+    let row = match form_factors.state(k) {
+        RowState::Computed(row) => row,
+        RowState::Skipped | RowState::ShutIn => return Update::Unchanged,
+        RowState::Pending | RowState::Released => return Update::Anew,
+    };
+    if !row
         .entries()
         .iter()
         .any(|&(j, _)| split_of[j as usize].is_some())
     {
         return Update::Unchanged;
     }
+    let e = &mesh.elements[k];
     let normal = mesh.surfaces[e.surface as usize].normal;
     let eye = e.centroid + normal * (1e-6 * e.area.sqrt());
-    let mut entries: Vec<(u32, f32)> = Vec::with_capacity(e.row.len() + 3 * splits.len());
-    for &(j, f) in e.row.entries() {
+    let mut entries: Vec<(u32, f32)> = Vec::with_capacity(row.len() + 3 * splits.len());
+    for &(j, f) in row.entries() {
         let Some(i) = split_of[j as usize] else {
             entries.push((j, f));
             continue;
@@ -134,11 +138,11 @@ mod tests {
     use super::*;
     use crate::formfactor::hemicube::DeltaTable;
     use crate::formfactor::{compute_rows, EmitterSampling, FormFactorMethod, RowSettings};
-    use crate::pipeline::split_uniformly;
+    use crate::pipeline::workspace::split_uniformly;
     use crate::scenes::cornell_box;
     use std::sync::Arc;
 
-    fn rows_for_all(mesh: &mut Mesh, sources: &Sources) {
+    fn rows_for_all(mesh: &Mesh, store: &mut FormFactors, sources: &Sources) {
         let settings = RowSettings {
             table: Arc::new(DeltaTable::new(64)),
             seed: 7,
@@ -149,7 +153,7 @@ mod tests {
         let leaves = mesh.leaves();
         let (rows, _) = compute_rows(mesh, sources, &leaves, &settings, &|_| {});
         for (k, row) in leaves.into_iter().zip(rows) {
-            mesh.elements[k].row = row;
+            store.set_row(k, row);
         }
     }
 
@@ -161,7 +165,8 @@ mod tests {
         let mut mesh = Mesh::new(&cornell_box(), 0.14, 100_000).unwrap();
         split_uniformly(&mut mesh, 1, 100_000).unwrap();
         let sources = Sources::from_mesh(&mesh);
-        rows_for_all(&mut mesh, &sources);
+        let mut store = FormFactors::new();
+        rows_for_all(&mesh, &mut store, &sources);
         let light = sources.emitters[0];
         let picks: Vec<u32> = (0..mesh.patches.len() as u32)
             .step_by(40)
@@ -170,6 +175,7 @@ mod tests {
         let mut splits = Vec::new();
         for p in picks {
             let polygon = mesh.patches[p as usize].polygon.clone();
+            store.forget(mesh.patches[p as usize].root);
             let children = mesh.split_patch(p);
             splits.push(SplitPatch {
                 old: p,
@@ -178,19 +184,19 @@ mod tests {
             });
         }
         let sources = Sources::from_mesh(&mesh);
-        let anew = update_rows_for_splits(&mut mesh, &sources, &splits);
+        let anew = update_rows_for_splits(&mesh, &mut store, &sources, &splits);
         let leaves = mesh.leaves();
         let derived: Vec<(ElementKey, Row)> = leaves
             .iter()
             .filter(|k| !anew.contains(k))
-            .map(|&k| (k, mesh.elements[k].row.clone()))
+            .map(|&k| (k, store.row(k).cloned().unwrap_or_default()))
             .collect();
-        rows_for_all(&mut mesh, &sources);
+        rows_for_all(&mesh, &mut store, &sources);
         let mut with_children = 0;
         let mut worst: f64 = 0.0;
         let mut missing: f64 = 0.0;
         for (k, row) in &derived {
-            let fresh = &mesh.elements[*k].row;
+            let fresh = store.row(*k).cloned().unwrap_or_default();
             // An entry only one side has is a sliver at grazing incidence
             // that the new hemi-cube's pixels missed (derived entries are
             // Lambert's formula, which does not).
@@ -229,15 +235,17 @@ mod tests {
         let mut mesh = Mesh::new(&cornell_box(), 0.14, 100_000).unwrap();
         split_uniformly(&mut mesh, 1, 100_000).unwrap();
         let sources = Sources::from_mesh(&mesh);
-        rows_for_all(&mut mesh, &sources);
+        let mut store = FormFactors::new();
+        rows_for_all(&mesh, &mut store, &sources);
         let light = sources.emitters[0];
         let saw_light: Vec<ElementKey> = mesh
             .leaves()
             .into_iter()
-            .filter(|k| mesh.elements[*k].row.get(light) > 0.0)
+            .filter(|k| store.row(*k).is_some_and(|r| r.get(light) > 0.0))
             .collect();
         assert!(saw_light.len() > 100);
         let polygon = mesh.patches[light as usize].polygon.clone();
+        store.forget(mesh.patches[light as usize].root);
         let children = mesh.split_patch(light);
         let splits = [SplitPatch {
             old: light,
@@ -245,7 +253,7 @@ mod tests {
             children,
         }];
         let sources = Sources::from_mesh(&mesh);
-        let anew = update_rows_for_splits(&mut mesh, &sources, &splits);
+        let anew = update_rows_for_splits(&mesh, &mut store, &sources, &splits);
         for k in &saw_light {
             assert!(anew.contains(k));
         }

@@ -2,10 +2,11 @@
 
 use super::Settings;
 use crate::formfactor::hemicube::HemicubeStats;
+use crate::formfactor::{FormFactors, Row};
 use crate::math::Rgb;
 use crate::mesh::Mesh;
 use crate::scene::Scene;
-use crate::solve::{GatherTotals, PatchSystem, SolveReport};
+use crate::solve::{GatherTotals, PatchSystem, Radiosity, SolveReport};
 use serde::Serialize;
 
 /// Wall-clock seconds per stage.
@@ -181,6 +182,8 @@ impl SolveStats {
     pub(crate) fn finish(
         &mut self,
         mesh: &Mesh,
+        form_factors: &FormFactors,
+        radiosity: &Radiosity,
         system: &PatchSystem,
         scene: &Scene,
         settings: &Settings,
@@ -195,14 +198,11 @@ impl SolveStats {
         let leaves = mesh.leaves();
         self.elements = leaves.len();
         // Leaves left without rows because they reflect nothing have no row
-        // sum to report.
+        // sum to report; shut-in leaves sum to 0.
         let sums: Vec<f64> = leaves
             .iter()
-            .map(|k| &mesh.elements[*k])
-            .filter(|e| {
-                !(e.row.is_empty() && mesh.surfaces[e.surface as usize].reflectance == Rgb::ZERO)
-            })
-            .map(|e| e.row.sum())
+            .filter(|k| form_factors.state(**k).is_computed())
+            .map(|k| form_factors.row(*k).map_or(0.0, Row::sum))
             .collect();
         self.hemicube = HemicubeFigures {
             resolution: settings.hemicube_resolution,
@@ -210,12 +210,12 @@ impl SolveStats {
             polygons_rasterized: hemicube.polygons_rasterized,
             pixels_tested: hemicube.pixels_tested,
             polygons_culled: hemicube.polygons_culled,
-            element_form_factors: leaves.iter().map(|k| mesh.elements[*k].row.len()).sum(),
+            element_form_factors: form_factors.row_entries(),
             patch_form_factors: system.nonzeros(),
             mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,
             max_row_sum: sums.iter().copied().fold(0.0, f64::max),
         };
-        self.memory = MemoryFigures::of(mesh, system);
+        self.memory = MemoryFigures::of(mesh, form_factors, radiosity, system);
         self.solver = report;
         self.total_iterations = iterations;
         let e = totals.emitted.0.iter().sum::<f64>();
@@ -244,6 +244,12 @@ pub struct MemoryFigures {
     /// The leaves' form-factor rows: 8 bytes per stored entry (a 32-bit patch
     /// id and a single-precision factor), allocated exactly.
     pub row_bytes: usize,
+    /// The row store's table: one slot per element key, with the row's
+    /// state.
+    pub row_table_bytes: usize,
+    /// Element and patch radiosities: one value per element node (in a
+    /// table keyed by element) and per patch.
+    pub radiosity_bytes: usize,
     /// Stored row entries over all elements.
     pub row_entries: usize,
     /// Patches: `size_of::<Patch>()` per slot of capacity, plus the polygons
@@ -253,7 +259,8 @@ pub struct MemoryFigures {
     /// triangle cuts' cell maps at one control byte per entry) and the
     /// quadtree roots.
     pub lattice_bytes: usize,
-    /// The sum of the four figures above.
+    /// The sum of the figures above: the mesh and what the solve keeps per
+    /// element.
     pub mesh_bytes: usize,
     /// The patch system: double-precision patch rows (16 bytes per entry),
     /// reflectances and emissions.
@@ -267,17 +274,21 @@ pub struct MemoryFigures {
 impl MemoryFigures {
     /// The figures of `mesh` and `system` as they stand.
     #[must_use]
-    pub fn of(mesh: &Mesh, system: &PatchSystem) -> Self {
+    pub fn of(
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        radiosity: &Radiosity,
+        system: &PatchSystem,
+    ) -> Self {
         use crate::mesh::{Element, Patch, PatchGrid, SurfaceLattice};
         use std::mem::{align_of, size_of};
         let slot = (size_of::<Element>() + 4).next_multiple_of(align_of::<Element>().max(4));
         let element_arena_bytes = (mesh.elements.capacity() + 1) * slot;
-        let (mut row_bytes, mut row_entries, mut leaves) = (0, 0, 0usize);
-        for e in mesh.elements.values() {
-            row_bytes += e.row.heap_bytes();
-            row_entries += e.row.len();
-            leaves += usize::from(e.is_leaf());
-        }
+        let leaves = mesh.elements.values().filter(|e| e.is_leaf()).count();
+        let row_bytes = form_factors.row_bytes();
+        let row_table_bytes = form_factors.table_bytes();
+        let radiosity_bytes = radiosity.heap_bytes();
+        let row_entries = form_factors.row_entries();
         let vertex = size_of::<glam::DVec3>();
         let patch_bytes = mesh.patches.capacity() * size_of::<Patch>()
             + mesh
@@ -306,7 +317,12 @@ impl MemoryFigures {
                 })
                 .sum::<usize>()
             + mesh.top_roots.capacity() * size_of::<crate::mesh::ElementKey>();
-        let mesh_bytes = element_arena_bytes + row_bytes + patch_bytes + lattice_bytes;
+        let mesh_bytes = element_arena_bytes
+            + row_bytes
+            + row_table_bytes
+            + radiosity_bytes
+            + patch_bytes
+            + lattice_bytes;
         let rgb = size_of::<Rgb>();
         let system_bytes = system.rows.capacity() * size_of::<Vec<(u32, f64)>>()
             + system
@@ -325,6 +341,8 @@ impl MemoryFigures {
         MemoryFigures {
             element_arena_bytes,
             row_bytes,
+            row_table_bytes,
+            radiosity_bytes,
             row_entries,
             patch_bytes,
             lattice_bytes,

@@ -1,6 +1,7 @@
 //! The subdivision criterion: radiosity differences between edge neighbours.
 
 use crate::mesh::{ElementKey, Mesh};
+use crate::solve::Radiosity;
 
 /// The result of one pass of the criterion.
 #[derive(Clone, Debug, Default)]
@@ -21,6 +22,7 @@ pub struct Marks {
 #[must_use]
 pub fn mark_for_split(
     mesh: &Mesh,
+    radiosity: &Radiosity,
     tolerance: f64,
     max_depth: u8,
     min_area: f64,
@@ -31,7 +33,7 @@ pub fn mark_for_split(
         .iter()
         .map(|&k| {
             let e = &mesh.elements[k];
-            (e.radiosity - mesh.surfaces[e.surface as usize].emission).max_band()
+            (radiosity.element(k) - mesh.surfaces[e.surface as usize].emission).max_band()
         })
         .fold(0.0, f64::max);
     let mut marks = Marks::default();
@@ -42,13 +44,12 @@ pub fn mark_for_split(
         leaves.iter().enumerate().map(|(i, k)| (*k, i)).collect();
     let mut worst: Vec<f64> = vec![0.0; leaves.len()];
     for (i, &k) in leaves.iter().enumerate() {
-        let e = &mesh.elements[k];
+        let value = radiosity.element(k);
         for n in mesh.edge_neighbours(k).into_iter().flatten() {
-            let ne = &mesh.elements[n];
-            if !ne.is_leaf() {
+            if !mesh.elements[n].is_leaf() {
                 continue;
             }
-            let d = (e.radiosity - ne.radiosity).abs().max_band() / reference;
+            let d = (value - radiosity.element(n)).abs().max_band() / reference;
             worst[i] = worst[i].max(d);
             if let Some(&j) = order.get(&n) {
                 worst[j] = worst[j].max(d);

@@ -19,8 +19,9 @@
 //! sum_j F_ej B_j`), so [`gather_bounces`] gathers from `B^(N-1)` to give the
 //! elements exactly `N` reflections, like the patches' `B^(N)`.
 
-use super::{gather_with, GatherOptions, GatherTotals, PatchSystem, SolveReport};
+use super::{gather_with, GatherOptions, GatherTotals, PatchSystem, Radiosity, SolveReport};
 use crate::error::{Error, Result};
+use crate::formfactor::FormFactors;
 use crate::math::Rgb;
 use crate::mesh::Mesh;
 
@@ -52,7 +53,9 @@ pub fn bounced_radiosity(system: &PatchSystem, reflections: u32) -> Vec<Rgb> {
 /// the full solution (the bound is infinite where the system does not
 /// contract). Fails for `bounces` of 0 or above [`MAX_BOUNCES`].
 pub fn gather_bounces(
-    mesh: &mut Mesh,
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    radiosity: &mut Radiosity,
     system: &PatchSystem,
     b: &mut [Rgb],
     bounces: u32,
@@ -60,13 +63,11 @@ pub fn gather_bounces(
 ) -> Result<(SolveReport, GatherTotals)> {
     check_bounces(bounces)?;
     let before = bounced_radiosity(system, bounces - 1);
-    let totals = gather_with(mesh, &before, options);
+    let totals = gather_with(mesh, form_factors, radiosity, &before, options);
     for (i, out) in b.iter_mut().enumerate() {
         *out = system.update(i, &before);
     }
-    for (patch, value) in mesh.patches.iter_mut().zip(b.iter()) {
-        patch.radiosity = *value;
-    }
+    radiosity.set_patches(b);
     let residual = (0..system.len())
         .map(|i| (system.update(i, b) - b[i]).abs().max_band())
         .fold(0.0, f64::max);

@@ -1,5 +1,7 @@
 //! One gather from patches to leaf elements.
 
+use super::Radiosity;
+use crate::formfactor::FormFactors;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use rayon::prelude::*;
@@ -14,11 +16,17 @@ pub struct GatherTotals {
     pub absorbed: Rgb,
 }
 
-/// Sets every leaf's radiosity to `E + rho sum_j F_ej B_j` from the patch
-/// radiosities `b`, every interior node's to the area-weighted mean of its
-/// children, and every patch's to `b`. Returns the power totals.
-pub fn gather(mesh: &mut Mesh, b: &[Rgb]) -> GatherTotals {
-    gather_with(mesh, b, &GatherOptions::default())
+/// Sets every leaf's radiosity in `radiosity` to `E + rho sum_j F_ej B_j`
+/// from the patch radiosities `b` and the leaves' rows, every interior node's
+/// to the area-weighted mean of its children, and every patch's to `b`.
+/// Returns the power totals.
+pub fn gather(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    radiosity: &mut Radiosity,
+    b: &[Rgb],
+) -> GatherTotals {
+    gather_with(mesh, form_factors, radiosity, b, &GatherOptions::default())
 }
 
 /// How [`gather_with`] works.
@@ -37,7 +45,13 @@ pub struct GatherOptions<'a> {
 }
 
 /// [`gather`] with `options`.
-pub fn gather_with(mesh: &mut Mesh, b: &[Rgb], options: &GatherOptions<'_>) -> GatherTotals {
+pub fn gather_with(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    radiosity: &mut Radiosity,
+    b: &[Rgb],
+    options: &GatherOptions<'_>,
+) -> GatherTotals {
     let leaves: Vec<ElementKey> = mesh.leaves();
     let rowless = options.rowless;
     // Per leaf: radiosity, irradiance, and the form factor of its row to
@@ -47,22 +61,22 @@ pub fn gather_with(mesh: &mut Mesh, b: &[Rgb], options: &GatherOptions<'_>) -> G
         .map(|&k| {
             let e = &mesh.elements[k];
             let lattice = &mesh.surfaces[e.surface as usize];
+            let entries = form_factors.entries(k);
             let h = if options.grey {
                 let mut h = 0.0;
-                for &(j, f) in e.row.entries() {
+                for &(j, f) in entries {
                     h += b[j as usize].0[0] * f64::from(f);
                 }
                 Rgb::splat(h)
             } else {
                 let mut h = Rgb::ZERO;
-                for &(j, f) in e.row.entries() {
+                for &(j, f) in entries {
                     h += b[j as usize] * f64::from(f);
                 }
                 h
             };
             let to_rowless = rowless.map_or(0.0, |flags| {
-                e.row
-                    .entries()
+                entries
                     .iter()
                     .filter(|(j, _)| flags[*j as usize])
                     .map(|&(_, f)| f64::from(f))
@@ -78,37 +92,19 @@ pub fn gather_with(mesh: &mut Mesh, b: &[Rgb], options: &GatherOptions<'_>) -> G
         })
         .collect();
     let mut totals = GatherTotals::default();
-    for (&k, (radiosity, h, to_rowless)) in leaves.iter().zip(&results) {
-        let e = &mut mesh.elements[k];
-        e.radiosity = *radiosity;
+    for (&k, (value, h, to_rowless)) in leaves.iter().zip(&results) {
+        radiosity.set_element(k, *value);
+        let e = &mesh.elements[k];
         let lattice = &mesh.surfaces[e.surface as usize];
         totals.emitted += lattice.emission * e.area;
         totals.absorbed += (Rgb::ONE - lattice.reflectance) * *h * e.area;
         if *to_rowless > 0.0 {
-            totals.absorbed += *radiosity * (e.area * to_rowless);
+            totals.absorbed += *value * (e.area * to_rowless);
         }
     }
-    for k in mesh.top_roots.clone() {
-        push_up(mesh, k);
+    for &k in &mesh.top_roots {
+        radiosity.push_up(mesh, k);
     }
-    for (p, bp) in b.iter().enumerate() {
-        mesh.patches[p].radiosity = *bp;
-    }
+    radiosity.set_patches(b);
     totals
-}
-
-/// Area-weighted mean radiosity of the subtree at `key`, stored in each node.
-pub(crate) fn push_up(mesh: &mut Mesh, key: ElementKey) -> Rgb {
-    let children = mesh.elements[key].children.clone();
-    if children.is_empty() {
-        return mesh.elements[key].radiosity;
-    }
-    let mut sum = Rgb::ZERO;
-    for c in children {
-        let r = push_up(mesh, c);
-        sum += r * mesh.elements[c].area;
-    }
-    let e = &mut mesh.elements[key];
-    e.radiosity = sum / e.area;
-    e.radiosity
 }

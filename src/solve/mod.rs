@@ -11,14 +11,15 @@ pub mod bounces;
 mod gather;
 mod gauss_seidel;
 pub mod progressive;
+mod radiosity;
 mod system;
 
 pub use bounces::{bounced_radiosity, gather_bounces, MAX_BOUNCES};
-pub(crate) use gather::push_up;
 pub use gather::{gather, gather_with, GatherOptions, GatherTotals};
 pub use gauss_seidel::{
     gauss_seidel, gauss_seidel_grey, SolveReport, SolverSettings, MAX_CONTRACTION, PLAIN_SWEEPS,
     STALL_SWEEPS,
 };
 pub use progressive::{ProgressiveSettings, SolverKind};
+pub use radiosity::Radiosity;
 pub use system::PatchSystem;

@@ -1,5 +1,6 @@
 //! The coarse patch system assembled from element rows.
 
+use crate::formfactor::FormFactors;
 use crate::math::Rgb;
 use crate::mesh::Mesh;
 
@@ -25,7 +26,7 @@ pub struct PatchSystem {
 impl PatchSystem {
     /// Assembles every patch row from the leaves' rows.
     #[must_use]
-    pub fn from_mesh(mesh: &Mesh) -> Self {
+    pub fn from_mesh(mesh: &Mesh, form_factors: &FormFactors) -> Self {
         let n = mesh.patches.len();
         let mut s = PatchSystem {
             rows: vec![Vec::new(); n],
@@ -33,26 +34,24 @@ impl PatchSystem {
             emission: (0..n as u32).map(|p| mesh.patch_emission(p)).collect(),
         };
         let all: Vec<u32> = (0..n as u32).collect();
-        s.refresh(mesh, &all);
+        s.refresh(mesh, form_factors, &all);
         s
     }
 
     /// Recomputes the rows of the given patches (after their leaves changed).
-    pub fn refresh(&mut self, mesh: &Mesh, patches: &[u32]) {
+    pub fn refresh(&mut self, mesh: &Mesh, form_factors: &FormFactors, patches: &[u32]) {
         let mut dense: Vec<f64> = Vec::new();
         let mut touched: Vec<u32> = Vec::new();
         for &p in patches {
             let leaves = mesh.patch_leaves(p);
             let area: f64 = leaves
                 .iter()
-                .map(|k| &mesh.elements[*k])
-                .filter(|e| !e.row.is_empty())
-                .map(|e| e.area)
+                .filter(|k| form_factors.is_exposed(**k))
+                .map(|k| mesh.elements[*k].area)
                 .sum();
             for k in leaves {
-                let e = &mesh.elements[k];
-                let w = e.area / area;
-                for &(j, f) in e.row.entries() {
+                let w = mesh.elements[k].area / area;
+                for &(j, f) in form_factors.entries(k) {
                     let j = j as usize;
                     if j >= dense.len() {
                         dense.resize(mesh.patches.len(), 0.0);

@@ -25,10 +25,9 @@ fn finest_elements_lie_in_the_penumbra() {
     let oracle = spec.oracle().unwrap();
     let floor = floor_object(&spec);
     let leaves: Vec<_> = sol
-        .mesh
-        .elements
-        .values()
-        .filter(|e| e.is_leaf() && sol.mesh.surfaces[e.surface as usize].object == floor)
+        .leaves()
+        .into_iter()
+        .filter(|e| sol.mesh().surfaces()[e.surface as usize].object == floor)
         .collect();
     let deepest = leaves.iter().map(|e| e.depth).max().unwrap();
     let shallowest = leaves.iter().map(|e| e.depth).min().unwrap();
@@ -92,15 +91,15 @@ fn shading_is_continuous_across_refined_and_unrefined_neighbours() {
     let floor = floor_object(&spec);
     let mut checked = 0;
     let scale = mesh.radiosity.iter().map(|b| b[0]).fold(0.0, f64::max);
-    for (key, e) in &sol.mesh.elements {
-        let lattice = &sol.mesh.surfaces[e.surface as usize];
+    for (key, e) in sol.mesh().elements() {
+        let lattice = &sol.mesh().surfaces()[e.surface as usize];
         if !e.is_leaf() || lattice.object != floor {
             continue;
         }
         let poly = lattice.polygon(&e.cell);
-        for (i, n) in sol.mesh.edge_neighbours(key).into_iter().enumerate() {
+        for (i, n) in sol.mesh().edge_neighbours(key).into_iter().enumerate() {
             let Some(n) = n else { continue };
-            if sol.mesh.elements[n].depth >= e.depth {
+            if sol.mesh()[n].depth >= e.depth {
                 continue; // only edges where the other side is coarser
             }
             let (p0, p1) = (poly[i], poly[(i + 1) % poly.len()]);
@@ -114,7 +113,7 @@ fn shading_is_continuous_across_refined_and_unrefined_neighbours() {
                     "jump {} at {p:?} between depth {} and {}",
                     fine - coarse,
                     e.depth,
-                    sol.mesh.elements[n].depth
+                    sol.mesh()[n].depth
                 );
                 checked += 1;
             }

@@ -140,12 +140,12 @@ fn elements_within(
     surface: u32,
     x: (f64, f64),
     z: (f64, f64),
-) -> Vec<&radiosity::mesh::Element> {
+) -> Vec<radiosity::pipeline::Leaf<'_>> {
     leaves(sol)
         .into_iter()
         .filter(|e| e.surface == surface)
         .filter(|e| {
-            let poly = sol.mesh.surfaces[e.surface as usize].polygon(&e.cell);
+            let poly = sol.mesh().surfaces()[e.surface as usize].polygon(&e.cell);
             poly.iter().all(|p| {
                 p.x >= x.0 - 1e-12 && p.x <= x.1 + 1e-12 && p.z >= z.0 - 1e-12 && p.z <= z.1 + 1e-12
             })
@@ -339,7 +339,7 @@ fn assert_no_light_under_the_box(sol: &Solution, what: &str) -> f64 {
                 e.centroid
             );
         } else if e.radiosity.max_band() > 0.0 {
-            let poly = sol.mesh.surfaces[0].polygon(&e.cell);
+            let poly = sol.mesh().surfaces()[0].polygon(&e.cell);
             let (lo, hi) = poly.iter().fold(
                 (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
                 |(lo, hi), p| (lo.min(*p), hi.max(*p)),
@@ -362,7 +362,7 @@ fn no_light_leaks_under_a_box_standing_on_the_floor() {
     let footprint = (BOX_X.1 - BOX_X.0) * (BOX_Z.1 - BOX_Z.0);
     eprintln!(
         "box on floor: {} elements; straddling elements show {:.2}% of the footprint lit",
-        sol.stats.elements,
+        sol.stats().elements,
         100.0 * leaked / footprint
     );
     // The box's bottom face lies on the floor facing down: it sees nothing.

@@ -23,8 +23,8 @@ fn every_row_of_a_closed_scene_sums_to_one() {
     let scene = closed_box(DVec3::new(1.0, 0.7, 1.3), [FaceMaterial::grey(0.5, 1.0); 6]);
     let sol = radiosity::solve(&scene, &uniform_settings(0.25, 1), &|_| {}).unwrap();
     let mut worst: f64 = 0.0;
-    for e in sol.mesh.elements.values().filter(|e| e.is_leaf()) {
-        worst = worst.max((e.row.sum() - 1.0).abs());
+    for e in sol.leaves() {
+        worst = worst.max((e.row_sum() - 1.0).abs());
     }
     assert!(worst < 1e-3, "largest row-sum error {worst}");
 }
@@ -61,9 +61,9 @@ fn closed_box_with_mixed_reflectances_balances_energy() {
     ];
     let scene = closed_box(DVec3::new(1.0, 1.0, 1.0), faces);
     let sol = radiosity::solve(&scene, &uniform_settings(0.125, 0), &|_| {}).unwrap();
-    assert!(sol.stats.patches >= 6 * 64);
-    let e = sol.stats.energy.emitted_power;
-    let a = sol.stats.energy.absorbed_power;
+    assert!(sol.stats().patches >= 6 * 64);
+    let e = sol.stats().energy.emitted_power;
+    let a = sol.stats().energy.absorbed_power;
     for band in 0..3 {
         assert!(
             rel(a[band], e[band]) < 0.01,
@@ -80,7 +80,7 @@ fn furnace_gives_e_over_one_minus_rho() {
         let scene = closed_box(DVec3::new(1.0, 0.8, 1.2), [FaceMaterial::grey(rho, 1.0); 6]);
         let sol = radiosity::solve(&scene, &uniform_settings(0.3, 1), &|_| {}).unwrap();
         let exact = 1.0 / (1.0 - rho);
-        for e in sol.mesh.elements.values().filter(|e| e.is_leaf()) {
+        for e in sol.leaves() {
             for band in 0..3 {
                 assert!(
                     rel(e.radiosity[band], exact) < 0.005,
@@ -107,8 +107,8 @@ fn six_patch_cube_converges_to_the_exact_solution() {
         let scene = closed_box(DVec3::ONE, faces);
         // One patch a face, a uniform 32 x 32 grid of elements on each.
         let sol = radiosity::solve(&scene, &uniform_settings(1.0, 5), &|_| {}).unwrap();
-        assert_eq!(sol.stats.patches, 6);
-        let b = &sol.patch_radiosity;
+        assert_eq!(sol.stats().patches, 6);
+        let b = &sol.patch_radiosity();
         assert!(rel(b[0][0], floor) < 0.005, "rho {rho} floor {}", b[0][0]);
         assert!(
             rel(b[1][0], ceiling) < 0.005,

@@ -81,8 +81,8 @@ fn mean_form_factor(from: &[DVec3], normal: DVec3, to: &[DVec3]) -> f64 {
 fn direct_light_leaves_the_white_fronts_neutral() {
     let scene = ferren_sculpture();
     let solution = radiosity::solve(&scene, &coarse(Some(1)), &|_| {}).unwrap();
-    assert_eq!(solution.stats.bounces, Some(1));
-    assert!(solution.stats.energy.truncated);
+    assert_eq!(solution.stats().bounces, Some(1));
+    assert!(solution.stats().energy.truncated);
     let all = solution.object_radiosity(&scene);
     let fronts = surfaces_ending(&all, "_front");
     assert_eq!(fronts.len(), 27);
@@ -102,8 +102,8 @@ fn direct_light_leaves_the_white_fronts_neutral() {
 fn interreflection_tints_each_white_front_with_the_back_facing_it() {
     let scene = ferren_sculpture();
     let solution = radiosity::solve(&scene, &coarse(None), &|_| {}).unwrap();
-    assert_eq!(solution.stats.bounces, None);
-    assert!(!solution.stats.energy.truncated);
+    assert_eq!(solution.stats().bounces, None);
+    assert!(!solution.stats().energy.truncated);
     let all = solution.object_radiosity(&scene);
     let backs = surfaces_ending(&all, "_back");
     let back_polygons: Vec<Vec<DVec3>> = backs

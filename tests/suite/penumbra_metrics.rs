@@ -84,27 +84,29 @@ pub fn measure(spec: &PenumbraSpec, settings: &Settings) -> FloorErrors {
         .iter()
         .position(|o| o.name == "floor")
         .expect("penumbra scenes have a floor") as u32;
-    let mesh = &solution.mesh;
+    let mesh = &solution.mesh();
     let leaves = mesh.leaves();
     let floor_leaves: Vec<ElementKey> = leaves
         .iter()
         .copied()
-        .filter(|k| mesh.surfaces[mesh.elements[*k].surface as usize].object == floor_object)
+        .filter(|k| mesh.surfaces()[mesh[*k].surface as usize].object == floor_object)
         .collect();
     // The exact means are independent quadratures: spread them over the cores
     // (the result is collected in order, so sums below do not depend on it).
     let floor: Vec<FloorElement> = floor_leaves
         .par_iter()
         .map(|&key| {
-            let e = &mesh.elements[key];
-            let polygon = mesh.surfaces[e.surface as usize].polygon(&e.cell).to_vec();
+            let e = &mesh[key];
+            let polygon = mesh.surfaces()[e.surface as usize]
+                .polygon(&e.cell)
+                .to_vec();
             let exact = spec.exact_element_mean(&polygon).unwrap()[0];
             let exact_at_centroid = spec.exact_radiosity(e.centroid).unwrap()[0];
             FloorElement {
                 key,
                 polygon,
                 area: e.area,
-                solved: e.radiosity[0],
+                solved: solution.radiosity().element(key)[0],
                 exact,
                 exact_at_centroid,
             }

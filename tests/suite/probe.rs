@@ -74,17 +74,17 @@ fn floor_leaves(scene: &Scene, sol: &Solution) -> Vec<Leaf> {
         .iter()
         .position(|o| o.name == "floor")
         .unwrap() as u32;
-    sol.mesh
+    sol.mesh()
         .leaves()
         .into_iter()
         .filter_map(|k| {
-            let e = &sol.mesh.elements[k];
-            let lattice = &sol.mesh.surfaces[e.surface as usize];
+            let e = &sol.mesh()[k];
+            let lattice = &sol.mesh().surfaces()[e.surface as usize];
             (lattice.object == floor).then(|| Leaf {
                 surface: e.surface,
                 corners: lattice.polygon(&e.cell).to_vec(),
                 area: e.area,
-                value: e.radiosity,
+                value: sol.radiosity().element(k),
             })
         })
         .collect()
@@ -171,7 +171,7 @@ fn probes_read_the_shading_mesh_the_renderer_draws() {
     let spec = penumbra::penumbra_parallel();
     let scene = spec.scene().unwrap();
     let sol = solve(&scene, &penumbra_settings());
-    let vertices = sol.mesh.vertex_radiosity();
+    let vertices = sol.mesh().vertex_radiosity(|k| sol.radiosity().element(k));
     assert!(!vertices.t_vertices.is_empty(), "the test needs T-vertices");
     let shading = sol.shading_mesh();
     let prober = sol.probe();

@@ -59,7 +59,7 @@ fn gathered_and_shot(
 }
 
 fn stats(sol: &Solution) -> &radiosity::solve::progressive::ProgressiveStats {
-    sol.stats
+    sol.stats()
         .progressive
         .as_ref()
         .expect("a progressive solve reports its figures")
@@ -91,7 +91,7 @@ fn furnace_converges_to_e_over_one_minus_rho() {
             FormFactorMethod::Hemicube => 0.04,
         };
         let (mut sum, mut area) = (0.0, 0.0);
-        for e in sol.mesh.elements.values().filter(|e| e.is_leaf()) {
+        for e in sol.leaves() {
             sum += e.radiosity[0] * e.area;
             area += e.area;
             for band in 0..3 {
@@ -121,8 +121,8 @@ fn six_patch_cube_converges_to_the_exact_solution() {
         let scene = closed_box(DVec3::ONE, faces);
         let s = progressive(uniform(1.0, 4), ProgressiveSettings::default());
         let sol = radiosity::solve(&scene, &s, &|_| {}).unwrap();
-        assert_eq!(sol.stats.patches, 6);
-        for (face, (b, x)) in sol.patch_radiosity.iter().zip(exact).enumerate() {
+        assert_eq!(sol.stats().patches, 6);
+        for (face, (b, x)) in sol.patch_radiosity().iter().zip(exact).enumerate() {
             assert!(
                 rel(b[0], x) < 0.005,
                 "rho {rho} face {face}: {} vs exact {x}",
@@ -180,14 +180,13 @@ fn agrees_per_surface(
         }
     }
     // The substructuring invariant holds for the shot solution too.
-    for (i, patch) in shot.mesh.patches.iter().enumerate() {
+    for (i, patch) in shot.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
-        for k in shot.mesh.patch_leaves(i as u32) {
-            let e = &shot.mesh.elements[k];
-            sum += e.radiosity * e.area;
+        for k in shot.mesh().patch_leaves(i as u32) {
+            sum += shot.radiosity().element(k) * shot.mesh()[k].area;
         }
         let mean = sum / patch.area;
-        assert!((mean - shot.patch_radiosity[i]).abs().max_band() <= 1e-9 * mean.max_band());
+        assert!((mean - shot.patch_radiosity()[i]).abs().max_band() <= 1e-9 * mean.max_band());
     }
 }
 
@@ -318,7 +317,7 @@ fn ambient_term_goes_to_zero_and_is_never_stored() {
     .unwrap();
     assert!(stats(&one).ambient.max_band() > 0.0);
     assert_eq!(one.object_radiosity(&scene)[ceiling].radiosity, Rgb::ZERO);
-    assert_eq!(one.patch_radiosity.len(), one.mesh.patches.len());
+    assert_eq!(one.patch_radiosity().len(), one.mesh().patches().len());
 }
 
 #[test]
@@ -464,12 +463,12 @@ fn same_seed_gives_the_same_bits_at_any_thread_count() {
         stats(&a).rows_gathered_after_shots.is_some(),
         "the run reaches the rows"
     );
-    assert_eq!(a.patch_radiosity, b.patch_radiosity);
+    assert_eq!(a.patch_radiosity(), b.patch_radiosity());
     let leaves = |s: &Solution| -> Vec<Rgb> {
-        s.mesh
+        s.mesh()
             .leaves()
             .iter()
-            .map(|k| s.mesh.elements[*k].radiosity)
+            .map(|k| s.radiosity().element(*k))
             .collect()
     };
     assert_eq!(leaves(&a), leaves(&b));
@@ -535,7 +534,7 @@ fn reciprocals_above_one_split_the_shooter_and_are_counted() {
         let f = stats(&sol);
         assert_eq!(f.shots, 1, "{method:?}: one emitter, nothing reflects");
         // All the power the upper plate absorbs came in the one shot.
-        let received = sol.stats.energy.absorbed_power[0] / sol.stats.energy.emitted_power[0];
+        let received = sol.stats().energy.absorbed_power[0] / sol.stats().energy.emitted_power[0];
         assert!(
             rel(received, exact) < tolerance,
             "{method:?}: plate-to-plate form factor {received} vs exact {exact}"
@@ -571,8 +570,11 @@ fn kept_form_factors_give_the_bits_of_rendering_every_shot() {
     assert_eq!(k.shots, r.shots);
     assert_eq!(r.cached_shots, 0);
     // Each patch renders once at most: at its first shot.
-    assert!(k.shots - k.cached_shots <= kept.stats.patches);
-    assert!(k.shots > 2 * kept.stats.patches, "patches shoot repeatedly");
+    assert!(k.shots - k.cached_shots <= kept.stats().patches);
+    assert!(
+        k.shots > 2 * kept.stats().patches,
+        "patches shoot repeatedly"
+    );
     assert!(
         k.shot_hemicubes * 3 < r.shot_hemicubes,
         "{} vs {}",
@@ -580,10 +582,10 @@ fn kept_form_factors_give_the_bits_of_rendering_every_shot() {
         r.shot_hemicubes
     );
     assert!(k.shot_cache_bytes > 0);
-    for (a, b) in kept.mesh.leaves().iter().zip(rendered.mesh.leaves()) {
+    for (a, b) in kept.mesh().leaves().iter().zip(rendered.mesh().leaves()) {
         assert_eq!(
-            kept.mesh.elements[*a].radiosity,
-            rendered.mesh.elements[b].radiosity
+            kept.radiosity().element(*a),
+            rendered.radiosity().element(b)
         );
     }
 }
@@ -598,7 +600,7 @@ fn leaves_shut_in_under_the_blocks_are_the_leaves_gathering_leaves_out() {
     let scene = scenes::cornell_box();
     let (gathered, shot) =
         gathered_and_shot(&scene, &uniform(0.14, 2), ProgressiveSettings::default());
-    let receivers = Receivers::new(&shot.mesh);
+    let receivers = Receivers::new(shot.mesh());
     let floor = scene
         .surfaces
         .iter()
@@ -607,20 +609,20 @@ fn leaves_shut_in_under_the_blocks_are_the_leaves_gathering_leaves_out() {
     let (mut shut, mut checked, mut dark) = (0, 0, 0);
     let (mut shut_power, mut shut_area, mut power, mut area) = (0.0, 0.0, 0.0, 0.0);
     for (i, (g, p)) in gathered
-        .mesh
+        .mesh()
         .leaves()
         .iter()
         .zip(&receivers.leaves)
         .enumerate()
     {
-        let (g, p) = (&gathered.mesh.elements[*g], &shot.mesh.elements[*p]);
+        let (g, p) = (gathered.leaf(*g), shot.leaf(*p));
         assert_eq!(g.cell, p.cell);
         if g.surface != floor {
             continue;
         }
         checked += 1;
         let exposed = receivers.exposed[i];
-        assert_eq!(!g.row.is_empty(), exposed, "floor leaf {:?}", g.cell);
+        assert_eq!(g.row.is_exposed(), exposed, "floor leaf {:?}", g.cell);
         let b = p.radiosity.max_band();
         power += b * p.area;
         area += p.area;
@@ -666,7 +668,7 @@ fn a_shooter_whose_eye_is_behind_a_receiver_still_lights_it_from_the_part_in_fro
     );
     let sol = radiosity::solve(&scene, &s, &|_| {}).unwrap();
     assert_eq!(stats(&sol).shots, 1);
-    let received = sol.stats.energy.absorbed_power[0] / sol.stats.energy.emitted_power[0];
+    let received = sol.stats().energy.absorbed_power[0] / sol.stats().energy.emitted_power[0];
     assert!(
         rel(received, exact) < 0.01,
         "plate receives {received}, exactly {exact}"
@@ -694,13 +696,13 @@ fn with_gathered_rows_it_converges_to_the_gauss_seidel_solution_itself() {
     assert!(after > 0, "the first shots use shooter hemi-cubes");
     assert_eq!(f.unshot_increases, 0);
     let brightest = gathered
-        .mesh
+        .mesh()
         .leaves()
         .iter()
-        .map(|k| gathered.mesh.elements[*k].radiosity.max_band())
+        .map(|k| gathered.radiosity().element(*k).max_band())
         .fold(0.0, f64::max);
-    for (g, p) in gathered.mesh.leaves().iter().zip(shot.mesh.leaves()) {
-        let (g, p) = (&gathered.mesh.elements[*g], &shot.mesh.elements[p]);
+    for (g, p) in gathered.mesh().leaves().iter().zip(shot.mesh().leaves()) {
+        let (g, p) = (gathered.leaf(*g), shot.leaf(p));
         let d = (g.radiosity - p.radiosity).abs().max_band();
         assert!(
             d < 1e-6 * brightest,

@@ -139,10 +139,14 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     let mut worst_row: f64 = 0.0;
     for e in leaves(&sol) {
         // A black receiver gets no row: it reflects nothing of what it sees.
-        if sol.mesh.surfaces[e.surface as usize].reflectance.max_band() == 0.0 {
+        if sol.mesh().surfaces()[e.surface as usize]
+            .reflectance
+            .max_band()
+            == 0.0
+        {
             continue;
         }
-        worst_row = worst_row.max((e.row.sum() - 1.0).abs());
+        worst_row = worst_row.max((e.row_sum() - 1.0).abs());
     }
     prop_assert!(worst_row < 0.02, "row sum off by {}", worst_row);
 
@@ -156,7 +160,7 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
         "random scene: {} surfaces, {} elements, worst row-sum error {worst_row:.1e}, energy \
          {:+.1e} {:+.1e} {:+.1e}",
         scene.surfaces.len(),
-        sol.stats.elements,
+        sol.stats().elements,
         energy[0],
         energy[1],
         energy[2]
@@ -165,24 +169,23 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     // Substructuring: each patch is the area mean of its elements, to the
     // solver's tolerance (1e-5 of the brightest patch).
     let brightest = sol
-        .patch_radiosity
+        .patch_radiosity()
         .iter()
         .map(|b| b.max_band())
         .fold(0.0, f64::max);
-    for (i, p) in sol.mesh.patches.iter().enumerate() {
+    for (i, p) in sol.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
-        for k in sol.mesh.patch_leaves(i as u32) {
-            let e = &sol.mesh.elements[k];
-            sum += e.radiosity * e.area;
+        for k in sol.mesh().patch_leaves(i as u32) {
+            sum += sol.radiosity().element(k) * sol.mesh()[k].area;
         }
         for band in 0..3 {
             let mean = sum[band] / p.area;
             prop_assert!(
-                (mean - sol.patch_radiosity[i][band]).abs() <= 1e-5 * brightest,
+                (mean - sol.patch_radiosity()[i][band]).abs() <= 1e-5 * brightest,
                 "patch {}: elements {} patch {}",
                 i,
                 mean,
-                sol.patch_radiosity[i][band]
+                sol.patch_radiosity()[i][band]
             );
         }
     }
@@ -204,7 +207,7 @@ fn check_progressive(scene: &Scene, gathered: &Solution) -> Result<(), TestCaseE
         .map_err(|e| TestCaseError::fail(format!("progressive solve failed: {e}")))?;
     assert_finite_non_negative(&shot, "random scene, progressive");
     let f = shot
-        .stats
+        .stats()
         .progressive
         .as_ref()
         .expect("progressive figures");

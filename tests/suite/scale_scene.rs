@@ -2,7 +2,8 @@
 
 use super::stress_scenes::assert_finite_non_negative;
 use glam::DVec3;
-use radiosity::formfactor::Row;
+use radiosity::formfactor::{Row, RowState};
+use radiosity::math::Rgb;
 use radiosity::mesh::{Element, Mesh, Patch};
 use radiosity::refine::RefineSettings;
 use radiosity::scenes::many_boxes::{lights_per_side, many_boxes, many_boxes_with};
@@ -39,7 +40,7 @@ fn many_boxes_is_cut_into_the_patches_its_rectangles_ask_for() {
             })
             .sum();
         let mesh = Mesh::new(&scene, patch_size, usize::MAX).unwrap();
-        assert_eq!(mesh.patches.len(), expected, "n = {n}");
+        assert_eq!(mesh.patches().len(), expected, "n = {n}");
     }
 }
 
@@ -48,7 +49,7 @@ fn the_built_in_many_boxes_has_2000_patches_and_100000_elements_at_depth_3() {
     let scene = many_boxes();
     let patch_size = Settings::default().patch_size_for(&scene);
     let mesh = Mesh::new(&scene, patch_size, Settings::default().max_patches).unwrap();
-    let patches = mesh.patches.len();
+    let patches = mesh.patches().len();
     assert!(patches >= 2000, "{patches} patches");
     // Uniform depth 3 splits every patch into 4^3 elements.
     assert!(patches * 64 >= 100_000, "{} elements", patches * 64);
@@ -67,9 +68,9 @@ fn a_small_many_boxes_solves_with_energy_balanced_and_radiosities_sane() {
     };
     let sol = radiosity::solve(&scene, &settings, &|_| {}).unwrap();
     assert_finite_non_negative(&sol, "many_boxes_with(3)");
-    let s = &sol.stats;
-    assert_eq!(s.patches, sol.mesh.patches.len());
-    assert_eq!(s.elements, sol.mesh.leaf_count());
+    let s = &sol.stats();
+    assert_eq!(s.patches, sol.mesh().patches().len());
+    assert_eq!(s.elements, sol.mesh().leaf_count());
     // A closed room: everything emitted is absorbed.
     assert!(
         s.energy.relative_difference.abs() < 0.01,
@@ -79,12 +80,12 @@ fn a_small_many_boxes_solves_with_energy_balanced_and_radiosities_sane() {
     // Lights are brighter than anything they light (exitance 4 pi against
     // reflected light of at most 0.8 of what arrives).
     let brightest_reflector = sol
-        .mesh
-        .patches
+        .mesh()
+        .patches()
         .iter()
         .enumerate()
-        .filter(|(p, _)| sol.mesh.patch_emission(*p as u32).max_band() == 0.0)
-        .map(|(_, p)| p.radiosity.max_band())
+        .filter(|(p, _)| sol.mesh().patch_emission(*p as u32).max_band() == 0.0)
+        .map(|(p, _)| sol.patch_radiosity()[p].max_band())
         .fold(0.0, f64::max);
     assert!(brightest_reflector > 0.0);
     assert!(brightest_reflector < 4.0 * std::f64::consts::PI);
@@ -110,13 +111,15 @@ fn mesh_bytes_are_the_sum_of_parts_counted_independently_and_grow_with_elements(
     let mut last = 0;
     for depth in [0, 1, 2] {
         let sol = uniform_solve(depth);
-        let (mesh, m) = (&sol.mesh, &sol.stats.memory);
-        let nodes = mesh.elements.len();
+        let (mesh, m) = (&sol.mesh(), &sol.stats().memory);
+        let nodes = mesh.element_count();
         let leaves = mesh.leaf_count();
-        let entries: usize = mesh.elements.values().map(|e| e.row.len()).sum();
+        let entries: usize = sol.leaves().iter().map(|e| e.entries().len()).sum();
         assert_eq!(m.row_entries, entries);
         assert_eq!(m.row_bytes, 8 * entries, "rows are allocated exactly");
-        assert_eq!(m.row_entries, sol.stats.hemicube.element_form_factors);
+        // The row store keeps a slot per element key with the row's state.
+        assert!(m.row_table_bytes >= leaves * size_of::<(u32, RowState)>());
+        assert_eq!(m.row_entries, sol.stats().hemicube.element_form_factors);
         // The arena holds at least every node, each an element plus a 32-bit
         // version, and at most twice that (it grows by doubling) plus its
         // reserved slot.
@@ -125,19 +128,26 @@ fn mesh_bytes_are_the_sum_of_parts_counted_independently_and_grow_with_elements(
         assert!(m.element_arena_bytes >= nodes * slot_low);
         assert!(m.element_arena_bytes <= (2 * nodes + 1) * slot_high);
         // Patches: four-vertex polygons stay inline.
-        let patches = mesh.patches.len();
-        assert!(m.patch_bytes >= patches * size_of::<Patch>());
+        let patches = mesh.patches().len();
+        assert!(m.patch_bytes >= std::mem::size_of_val(mesh.patches()));
         assert!(m.patch_bytes <= 2 * patches * size_of::<Patch>());
         assert!(m.lattice_bytes > 0);
+        // Radiosity: one value per element node and per patch.
+        assert!(m.radiosity_bytes >= (nodes + patches) * size_of::<Rgb>());
         assert_eq!(
             m.mesh_bytes,
-            m.element_arena_bytes + m.row_bytes + m.patch_bytes + m.lattice_bytes
+            m.element_arena_bytes
+                + m.row_bytes
+                + m.row_table_bytes
+                + m.radiosity_bytes
+                + m.patch_bytes
+                + m.lattice_bytes
         );
         let per = m.mesh_bytes as f64 / leaves as f64;
         assert!((m.mesh_bytes_per_element - per).abs() <= 1e-9 * per);
         assert!((m.row_bytes_per_element * leaves as f64 - m.row_bytes as f64).abs() < 1e-6);
         // The patch system holds at least its double-precision entries.
-        assert!(m.system_bytes >= 16 * sol.system.nonzeros());
+        assert!(m.system_bytes >= 16 * sol.patch_system().nonzeros());
         assert!(m.mesh_bytes > last, "depth {depth}: {} bytes", m.mesh_bytes);
         last = m.mesh_bytes;
     }
@@ -166,6 +176,8 @@ fn the_solve_json_reports_mesh_bytes_and_the_peak_resident_memory() {
         mesh,
         bytes("element_arena_bytes")
             + bytes("row_bytes")
+            + bytes("row_table_bytes")
+            + bytes("radiosity_bytes")
             + bytes("patch_bytes")
             + bytes("lattice_bytes")
     );

@@ -9,7 +9,7 @@ use glam::DVec3;
 use radiosity::analytic::cube::unit_cube_radiosity;
 use radiosity::formfactor::hemicube::{DeltaTable, Hemicube};
 use radiosity::formfactor::{
-    is_convex_enclosure, ClosedObjects, FormFactorMethod, SourcePolygon, Sources,
+    is_convex_enclosure, ClosedObjects, FormFactorMethod, RowState, SourcePolygon, Sources,
 };
 use radiosity::math::Rgb;
 use radiosity::mesh::{Cell, Mesh};
@@ -44,27 +44,27 @@ fn uniform(patch_size: f64, depth: u8) -> Settings {
 }
 
 fn leaf_radiosity_bits(sol: &Solution) -> Vec<u64> {
-    sol.mesh
+    sol.mesh()
         .leaves()
         .into_iter()
-        .flat_map(|k| sol.mesh.elements[k].radiosity.0.map(f64::to_bits))
+        .flat_map(|k| sol.radiosity().element(k).0.map(f64::to_bits))
         .collect()
 }
 
 fn patch_radiosity_bits(sol: &Solution) -> Vec<u64> {
-    sol.patch_radiosity
+    sol.patch_radiosity()
         .iter()
         .flat_map(|b| b.0.map(f64::to_bits))
         .collect()
 }
 
 fn row_bits(sol: &Solution) -> Vec<Vec<(u32, u32)>> {
-    sol.mesh
+    sol.mesh()
         .leaves()
         .into_iter()
         .map(|k| {
-            let row = &sol.mesh.elements[k].row;
-            row.entries()
+            sol.leaf(k)
+                .entries()
                 .iter()
                 .map(|&(j, f)| (j, f.to_bits()))
                 .collect()
@@ -74,7 +74,11 @@ fn row_bits(sol: &Solution) -> Vec<Vec<(u32, u32)>> {
 
 /// The same leaves, radiosities, patch radiosities and sweeps, bit for bit.
 fn assert_same_solution(a: &Solution, b: &Solution, what: &str) {
-    assert_eq!(a.stats.elements, b.stats.elements, "{what}: meshes differ");
+    assert_eq!(
+        a.stats().elements,
+        b.stats().elements,
+        "{what}: meshes differ"
+    );
     assert!(
         leaf_radiosity_bits(a) == leaf_radiosity_bits(b),
         "{what}: leaf radiosities differ"
@@ -84,7 +88,8 @@ fn assert_same_solution(a: &Solution, b: &Solution, what: &str) {
         "{what}: patch radiosities differ"
     );
     assert_eq!(
-        a.stats.total_iterations, b.stats.total_iterations,
+        a.stats().total_iterations,
+        b.stats().total_iterations,
         "{what}: sweeps differ"
     );
 }
@@ -119,11 +124,11 @@ fn black_receivers_get_no_rows_and_change_no_radiosity() {
         .flat_map(|o| surfaces_named(&scene, o))
         .collect();
     let mut black_leaves = 0u64;
-    for k in skipped.mesh.leaves() {
-        let (e, f) = (&skipped.mesh.elements[k], &full.mesh.elements[k]);
+    for k in skipped.mesh().leaves() {
+        let (e, f) = (skipped.leaf(k), full.leaf(k));
         if black.contains(&e.surface) {
             black_leaves += 1;
-            assert!(e.row.is_empty(), "a black leaf has a row");
+            assert_eq!(*e.row, RowState::Skipped, "a black leaf has a row");
             assert_eq!(
                 e.radiosity,
                 scene
@@ -135,23 +140,23 @@ fn black_receivers_get_no_rows_and_change_no_radiosity() {
         }
     }
     assert!(black_leaves > 0);
-    assert_eq!(skipped.stats.skips.zero_reflectance_rows, black_leaves);
-    assert_eq!(full.stats.skips.zero_reflectance_rows, 0);
+    assert_eq!(skipped.stats().skips.zero_reflectance_rows, black_leaves);
+    assert_eq!(full.stats().skips.zero_reflectance_rows, 0);
     assert_eq!(
-        skipped.stats.hemicube.hemicubes + black_leaves,
-        full.stats.hemicube.hemicubes
+        skipped.stats().hemicube.hemicubes + black_leaves,
+        full.stats().hemicube.hemicubes
     );
     // The power the black surfaces absorb now comes from the floor's rows by
     // reciprocity; it agrees with their own rows to within hemi-cube error.
     for band in 0..3 {
         let (a, b) = (
-            skipped.stats.energy.absorbed_power[band],
-            full.stats.energy.absorbed_power[band],
+            skipped.stats().energy.absorbed_power[band],
+            full.stats().energy.absorbed_power[band],
         );
         assert!(rel(a, b) < 1e-3, "band {band}: absorbed {a} against {b}");
         assert_eq!(
-            skipped.stats.energy.emitted_power[band],
-            full.stats.energy.emitted_power[band]
+            skipped.stats().energy.emitted_power[band],
+            full.stats().energy.emitted_power[band]
         );
     }
 }
@@ -174,22 +179,22 @@ fn a_black_emitter_facing_a_black_wall_keeps_its_rows_and_the_box_balances() {
         surfaces_named(&scene, "x0"),
     );
     let mut wall_leaves = 0;
-    for k in skipped.mesh.leaves() {
-        let e = &skipped.mesh.elements[k];
+    for k in skipped.mesh().leaves() {
+        let e = skipped.leaf(k);
         if ceiling.contains(&e.surface) {
-            assert!(!e.row.is_empty(), "the black emitter lost its rows");
+            assert!(!e.entries().is_empty(), "the black emitter lost its rows");
         }
         if wall.contains(&e.surface) {
-            assert!(e.row.is_empty(), "the black wall kept its rows");
+            assert_eq!(*e.row, RowState::Skipped, "the black wall kept its rows");
             wall_leaves += 1;
         }
     }
-    assert_eq!(skipped.stats.skips.zero_reflectance_rows, wall_leaves);
+    assert_eq!(skipped.stats().skips.zero_reflectance_rows, wall_leaves);
     // Closed: everything emitted is absorbed, on both paths, up to the
     // reciprocity error of form factors from element centroids (the wall's
     // own rows, or everyone else's).
     for sol in [&skipped, &full] {
-        let d = sol.stats.energy.relative_difference;
+        let d = sol.stats().energy.relative_difference;
         assert!(d.abs() < 0.005, "energy out of balance by {d}");
     }
 }
@@ -211,20 +216,20 @@ fn a_grey_scene_solved_on_one_band_gives_the_same_bits() {
     let one = solve(&scene, &base);
     let three = solve(&scene, &with_skips(&base, |s| s.grey = false));
     assert!(
-        !one.stats.passes.is_empty(),
+        !one.stats().passes.is_empty(),
         "the test wants refinement passes"
     );
     assert_same_solution(&one, &three, "grey skip");
-    assert_eq!(one.stats.solver, three.stats.solver);
+    assert_eq!(one.stats().solver, three.stats().solver);
     assert_eq!(
-        one.stats.energy.absorbed_power,
-        three.stats.energy.absorbed_power
+        one.stats().energy.absorbed_power,
+        three.stats().energy.absorbed_power
     );
-    assert_eq!(one.stats.skips.grey_solves, 1 + one.stats.passes.len());
-    assert_eq!(three.stats.skips.grey_solves, 0);
+    assert_eq!(one.stats().skips.grey_solves, 1 + one.stats().passes.len());
+    assert_eq!(three.stats().skips.grey_solves, 0);
     // A coloured scene is solved on three bands.
     let coloured = solve(&lit_room_with_box(1.0, 2.0, 0.01), &base);
-    assert_eq!(coloured.stats.skips.grey_solves, 0);
+    assert_eq!(coloured.stats().skips.grey_solves, 0);
 }
 
 /// A grey system of `n` patches, each seeing 8 others, with row sums 0.995
@@ -349,11 +354,17 @@ fn six_patch_cube_rows_are_exact_and_agree_with_the_analytic_cube() {
         let settings = uniform(1.0, 4);
         let exact = solve(&scene, &settings);
         let cubed = solve(&scene, &with_skips(&settings, |s| s.convex = false));
-        assert_eq!(exact.stats.patches, 6);
-        assert_eq!(exact.stats.skips.exact_rows, exact.stats.elements as u64);
-        assert_eq!(exact.stats.hemicube.hemicubes, 0);
-        assert_eq!(cubed.stats.skips.exact_rows, 0);
-        assert_eq!(cubed.stats.hemicube.hemicubes, cubed.stats.elements as u64);
+        assert_eq!(exact.stats().patches, 6);
+        assert_eq!(
+            exact.stats().skips.exact_rows,
+            exact.stats().elements as u64
+        );
+        assert_eq!(exact.stats().hemicube.hemicubes, 0);
+        assert_eq!(cubed.stats().skips.exact_rows, 0);
+        assert_eq!(
+            cubed.stats().hemicube.hemicubes,
+            cubed.stats().elements as u64
+        );
         // The analytic cube (closed forms of Howell C-11 and C-14).
         let mut e = [0.0; 6];
         e[1] = 1.0;
@@ -363,8 +374,8 @@ fn six_patch_cube_rows_are_exact_and_agree_with_the_analytic_cube() {
         let order = [0, 1, 4, 5, 2, 3];
         for (face, &t) in order.iter().enumerate() {
             let (x, h) = (
-                exact.patch_radiosity[face][0],
-                cubed.patch_radiosity[face][0],
+                exact.patch_radiosity()[face][0],
+                cubed.patch_radiosity()[face][0],
             );
             // 16 x 16 element centroids integrate the exact area-to-area form
             // factors by the midpoint rule: 3e-4 at most at this depth.
@@ -392,10 +403,9 @@ fn exact_rows_of_a_furnace_sum_to_one() {
     // largest radiosity; a row-sum error d adds d / (1 - 0.9).
     let scene = closed_box(DVec3::new(1.0, 0.8, 1.2), [FaceMaterial::grey(0.9, 1.0); 6]);
     let sol = solve(&scene, &uniform(0.3, 1));
-    assert_eq!(sol.stats.skips.exact_rows, sol.stats.elements as u64);
-    for k in sol.mesh.leaves() {
-        let e = &sol.mesh.elements[k];
-        assert!((e.row.sum() - 1.0).abs() < 1e-6, "row sum {}", e.row.sum());
+    assert_eq!(sol.stats().skips.exact_rows, sol.stats().elements as u64);
+    for e in sol.leaves() {
+        assert!((e.row_sum() - 1.0).abs() < 1e-6, "row sum {}", e.row_sum());
         assert!(
             rel(e.radiosity[0], 10.0) < 2e-5,
             "radiosity {}",
@@ -494,9 +504,9 @@ fn an_open_scene_skips_empty_faces_with_the_same_bits() {
     let full = solve(&scene, &with_skips(&base, |s| s.empty_faces = false));
     assert_same_solution(&skipped, &full, "empty-face skip");
     assert!(row_bits(&skipped) == row_bits(&full), "rows differ");
-    assert!(skipped.stats.skips.empty_faces > 0);
-    assert!(skipped.stats.skips.pixels_skipped > 0);
-    assert_eq!(full.stats.skips.pixels_skipped, 0);
+    assert!(skipped.stats().skips.empty_faces > 0);
+    assert!(skipped.stats().skips.pixels_skipped > 0);
+    assert_eq!(full.stats().skips.pixels_skipped, 0);
 }
 
 // ---- 5. Back faces that front faces always hide ----
@@ -598,9 +608,9 @@ fn skipping_hidden_back_faces_keeps_radiosities_and_shut_in_elements() {
     let base = quick_settings(0.4);
     let skipped = solve(&scene, &base);
     let full = solve(&scene, &with_skips(&base, |s| s.hidden_back_faces = false));
-    assert!(skipped.stats.skips.back_faces_skipped > 0);
-    assert_eq!(full.stats.skips.back_faces_skipped, 0);
-    assert!(skipped.stats.hemicube.pixels_tested < full.stats.hemicube.pixels_tested);
+    assert!(skipped.stats().skips.back_faces_skipped > 0);
+    assert_eq!(full.stats().skips.back_faces_skipped, 0);
+    assert!(skipped.stats().hemicube.pixels_tested < full.stats().hemicube.pixels_tested);
     // Only silhouette pixels, where a front and a back face meet at equal
     // depth, can change hands, and the hybrid rows take only the fraction of
     // a patch's pixels it won from them: object means barely move.
@@ -633,10 +643,10 @@ fn a_floor_under_an_open_block_still_sees_nothing() {
     let skipped = solve(&scene, &base);
     let full = solve(&scene, &with_skips(&base, |s| s.hidden_back_faces = false));
     let shut_in = |sol: &Solution| -> Vec<bool> {
-        sol.mesh
+        sol.mesh()
             .leaves()
             .into_iter()
-            .map(|k| sol.mesh.elements[k].row.is_empty())
+            .map(|k| *sol.leaf(k).row == RowState::ShutIn)
             .collect()
     };
     let (a, b) = (shut_in(&skipped), shut_in(&full));
@@ -645,18 +655,18 @@ fn a_floor_under_an_open_block_still_sees_nothing() {
         "no element under a block"
     );
     assert_eq!(a, b, "elements under the blocks changed");
-    assert!(skipped.stats.skips.back_faces_skipped > 0);
+    assert!(skipped.stats().skips.back_faces_skipped > 0);
 }
 
 // ---- 6. A refinement pass touches only what changed ----
 
 /// Leaves as (surface, cell): the same element across solves.
 fn leaf_cells(sol: &Solution) -> HashSet<(u32, Cell)> {
-    sol.mesh
+    sol.mesh()
         .leaves()
         .into_iter()
         .map(|k| {
-            let e = &sol.mesh.elements[k];
+            let e = &sol.mesh()[k];
             (e.surface, e.cell)
         })
         .collect()
@@ -675,31 +685,31 @@ fn refinement_passes_compute_hemicubes_for_new_leaves_only() {
             solve(&scene, &s)
         })
         .collect();
-    assert_eq!(runs[2].stats.passes.len(), 2, "the test wants two passes");
+    assert_eq!(runs[2].stats().passes.len(), 2, "the test wants two passes");
     // The first solve renders one hemi-cube per leaf.
     assert_eq!(
-        runs[0].stats.hemicube.hemicubes,
-        runs[0].stats.elements as u64
+        runs[0].stats().hemicube.hemicubes,
+        runs[0].stats().elements as u64
     );
-    let mut total = runs[0].stats.hemicube.hemicubes;
+    let mut total = runs[0].stats().hemicube.hemicubes;
     for pass in 0..2 {
         let before = leaf_cells(&runs[pass]);
         let after = leaf_cells(&runs[pass + 1]);
         let new = after.difference(&before).count();
-        let stats = &runs[2].stats.passes[pass];
+        let stats = &runs[2].stats().passes[pass];
         assert_eq!(stats.new_hemicubes, new, "pass {}", pass + 1);
         assert!(new < after.len(), "pass {} recomputed everything", pass + 1);
         total += new as u64;
     }
-    assert_eq!(runs[2].stats.hemicube.hemicubes, total);
+    assert_eq!(runs[2].stats().hemicube.hemicubes, total);
     // Only patches with new leaves had their rows re-summed, and the patch
     // system is what a rebuild from every row gives, bit for bit.
     let last = &runs[2];
-    assert!(last.stats.skips.patch_rows_refreshed > 0);
-    assert!(last.stats.skips.patch_rows_refreshed < 2 * last.stats.patches);
-    let rebuilt = PatchSystem::from_mesh(&last.mesh);
+    assert!(last.stats().skips.patch_rows_refreshed > 0);
+    assert!(last.stats().skips.patch_rows_refreshed < 2 * last.stats().patches);
+    let rebuilt = PatchSystem::from_mesh(last.mesh(), last.form_factors());
     assert!(
-        rebuilt.rows == last.system.rows,
+        rebuilt.rows == last.patch_system().rows,
         "refreshed rows differ from a rebuild"
     );
 }

@@ -40,17 +40,17 @@ fn nearly_singular_furnaces_converge_to_e_over_one_minus_rho() {
         eprintln!(
             "furnace rho {rho}: {} patches, {} elements, {} sweeps ({} extrapolated), \
              solve {:.4} s, whole run {seconds:.3} s, worst element error {worst:.2e}",
-            sol.stats.patches,
-            sol.stats.elements,
-            sol.stats.total_iterations,
-            sol.stats.solver.extrapolations,
-            sol.stats.seconds.solve,
+            sol.stats().patches,
+            sol.stats().elements,
+            sol.stats().total_iterations,
+            sol.stats().solver.extrapolations,
+            sol.stats().seconds.solve,
         );
         assert!(worst < 0.005, "rho {rho}: element off by {worst}");
         assert!(
-            sol.stats.total_iterations <= most_sweeps,
+            sol.stats().total_iterations <= most_sweeps,
             "rho {rho}: {} sweeps",
-            sol.stats.total_iterations
+            sol.stats().total_iterations
         );
     }
 }
@@ -267,7 +267,7 @@ fn hybrid_rows_of_a_closed_box_sum_to_one_even_with_patches_smaller_than_a_pixel
     let sol = radiosity::solve(&furnace(0.5), &settings, &|_| {}).unwrap();
     let worst = leaves(&sol)
         .iter()
-        .map(|e| (e.row.sum() - 1.0).abs())
+        .map(|e| (e.row_sum() - 1.0).abs())
         .fold(0.0, f64::max);
     assert!(worst < 1e-6, "row sum off by {worst}");
 }

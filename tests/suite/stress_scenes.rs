@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 use radiosity::math::Rgb;
-use radiosity::mesh::Element;
+use radiosity::pipeline::Leaf;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::SceneBuilder;
 use radiosity::{Settings, Solution};
@@ -157,12 +157,8 @@ pub fn quick_settings(patch_size: f64) -> Settings {
 }
 
 /// The leaf elements of a solution, in the mesh's (deterministic) order.
-pub fn leaves(sol: &Solution) -> Vec<&Element> {
-    sol.mesh
-        .leaves()
-        .into_iter()
-        .map(|k| &sol.mesh.elements[k])
-        .collect()
+pub fn leaves(sol: &Solution) -> Vec<Leaf<'_>> {
+    sol.leaves()
 }
 
 /// Every leaf, patch and patch-system radiosity is finite and non-negative.
@@ -175,7 +171,7 @@ pub fn assert_finite_non_negative(sol: &Solution, what: &str) {
             e.radiosity.0
         );
     }
-    for (i, b) in sol.patch_radiosity.iter().enumerate() {
+    for (i, b) in sol.patch_radiosity().iter().enumerate() {
         assert!(
             b.is_finite() && b.min_band() >= 0.0,
             "{what}: patch {i} has radiosity {:?}",
@@ -186,7 +182,7 @@ pub fn assert_finite_non_negative(sol: &Solution, what: &str) {
 
 /// The relative energy balance in every band (`(absorbed - emitted) / emitted`).
 pub fn energy_errors(sol: &Solution) -> [f64; 3] {
-    let e = sol.stats.energy.emitted_power;
-    let a = sol.stats.energy.absorbed_power;
+    let e = sol.stats().energy.emitted_power;
+    let a = sol.stats().energy.absorbed_power;
     std::array::from_fn(|band| (a[band] - e[band]) / e[band])
 }

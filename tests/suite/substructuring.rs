@@ -30,17 +30,16 @@ fn patch_radiosity_is_the_area_mean_of_its_elements() {
     };
     let sol = radiosity::solve(&scene, &s, &|_| {}).unwrap();
     assert!(
-        !sol.stats.passes.is_empty(),
+        !sol.stats().passes.is_empty(),
         "the test needs a refined mesh"
     );
-    for (i, p) in sol.mesh.patches.iter().enumerate() {
+    for (i, p) in sol.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
-        for k in sol.mesh.patch_leaves(i as u32) {
-            let e = &sol.mesh.elements[k];
-            sum += e.radiosity * e.area;
+        for k in sol.mesh().patch_leaves(i as u32) {
+            sum += sol.radiosity().element(k) * sol.mesh()[k].area;
         }
         let mean = sum / p.area;
-        let b = sol.patch_radiosity[i];
+        let b = sol.patch_radiosity()[i];
         for band in 0..3 {
             assert!(
                 (mean[band] - b[band]).abs() <= 1e-6 * b.max_band().max(1e-12),

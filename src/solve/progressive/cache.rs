@@ -15,7 +15,7 @@
 //! leaf `e` to patch `j` is the factor a shot of `j` needs). So no cached patch
 //! renders again when the mesh changes.
 
-use crate::formfactor::Row;
+use crate::formfactor::FormFactors;
 use crate::mesh::{ElementKey, Mesh};
 
 /// Bytes one cached entry takes.
@@ -78,18 +78,23 @@ impl ShotCache {
     }
 
     /// Replaces every patch's factors by the transpose of the gathering rows
-    /// of `keys` (every leaf of the mesh), if they fit the budget; returns
-    /// whether they did. From then on every patch is served at any depth, and
-    /// a shot of patch `j` delivers to each leaf `e` by its row entry `F_ej`,
-    /// the factor the Gauss-Seidel path gathers with.
-    pub fn gather(&mut self, patches: usize, keys: &[ElementKey], rows: &[Row]) -> bool {
-        let entries: usize = rows.iter().map(Row::len).sum();
+    /// in `form_factors` of `keys` (every leaf of the mesh), if they fit the
+    /// budget; returns whether they did. From then on every patch is served
+    /// at any depth, and a shot of patch `j` delivers to each leaf `e` by its
+    /// row entry `F_ej`, the factor the Gauss-Seidel path gathers with.
+    pub fn gather(
+        &mut self,
+        patches: usize,
+        form_factors: &FormFactors,
+        keys: &[ElementKey],
+    ) -> bool {
+        let entries: usize = keys.iter().map(|k| form_factors.entries(*k).len()).sum();
         if entries > self.budget_entries {
             return false;
         }
         let mut factors: Vec<Vec<(ElementKey, f64)>> = vec![Vec::new(); patches];
-        for (&k, row) in keys.iter().zip(rows) {
-            for &(j, f) in row.entries() {
+        for &k in keys {
+            for &(j, f) in form_factors.entries(k) {
                 factors[j as usize].push((k, f64::from(f)));
             }
         }
@@ -108,16 +113,16 @@ impl ShotCache {
 
     /// Brings the cache up to a refinement pass: entries of elements that are
     /// no longer leaves go, and each of the new leaves `fresh` (with its
-    /// gathering row in `rows`) joins every cached patch its row sees.
-    pub fn refine(&mut self, mesh: &Mesh, fresh: &[ElementKey], rows: &[Row]) {
+    /// gathering row in `form_factors`) joins every cached patch its row sees.
+    pub fn refine(&mut self, mesh: &Mesh, form_factors: &FormFactors, fresh: &[ElementKey]) {
         let mut entries = 0;
         for c in self.patches.iter_mut().flatten() {
             c.factors
                 .retain(|(k, _)| mesh.elements.get(*k).is_some_and(|e| e.is_leaf()));
             entries += c.factors.len();
         }
-        for (&k, row) in fresh.iter().zip(rows) {
-            for &(j, f) in row.entries() {
+        for &k in fresh {
+            for &(j, f) in form_factors.entries(k) {
                 if let Some(c) = &mut self.patches[j as usize] {
                     c.factors.push((k, f64::from(f)));
                     entries += 1;
@@ -146,6 +151,7 @@ impl ShotCache {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formfactor::Row;
     use crate::scenes::cornell_box;
 
     fn mesh() -> Mesh {
@@ -194,10 +200,14 @@ mod tests {
         assert!(cache.store(6, 0, vec![(b, 0.3)]).is_ok());
         let fresh = m.split(a);
         // Each child sees patches 5 and 7; patch 7 has nothing kept.
-        let rows: Vec<Row> = (0..4)
-            .map(|c| Row::from_sorted(vec![(5, 0.01 * (c + 1) as f32), (7, 0.5)]))
-            .collect();
-        cache.refine(&m, &fresh, &rows);
+        let mut rows = FormFactors::new();
+        for (c, &k) in fresh.iter().enumerate() {
+            rows.set_row(
+                k,
+                Row::from_sorted(vec![(5, 0.01 * (c + 1) as f32), (7, 0.5)]),
+            );
+        }
+        cache.refine(&m, &rows, &fresh);
         let five = cache.get(5, 0).unwrap();
         assert_eq!(five.len(), 5);
         assert_eq!(

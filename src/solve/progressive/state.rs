@@ -4,6 +4,7 @@
 use super::Receivers;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
+use crate::solve::Radiosity;
 use slotmap::SecondaryMap;
 
 /// What one shot delivered.
@@ -98,7 +99,13 @@ impl ShootingState {
     /// where the reflected part `sum_e rho_e F_ei s A_e / A_i` would exceed 1
     /// in some band, so that the shot would create unshot power, is the shot
     /// scaled back, and said so.
-    pub fn deliver(&mut self, mesh: &mut Mesh, p: u32, factors: &[(ElementKey, f64)]) -> Delivery {
+    pub fn deliver(
+        &mut self,
+        mesh: &Mesh,
+        radiosity: &mut Radiosity,
+        p: u32,
+        factors: &[(ElementKey, f64)],
+    ) -> Delivery {
         let area = self.areas[p as usize];
         let scale = self.open_scale[p as usize];
         let mut row_sum = 0.0;
@@ -114,7 +121,7 @@ impl ShootingState {
         let factor = if scaled { scale / worst } else { scale };
         let unshot = self.take_unshot(p);
         for &(k, f) in factors {
-            self.receive(mesh, k, unshot * (f * factor));
+            self.receive(mesh, radiosity, k, unshot * (f * factor));
         }
         Delivery {
             implied_row_sum: row_sum,
@@ -192,11 +199,11 @@ impl ShootingState {
 
     /// Leaf `key` receives irradiance `h`: its radiosity grows by `rho h`, and
     /// its patch's radiosity and unshot radiosity by the area-weighted share.
-    pub fn receive(&mut self, mesh: &mut Mesh, key: ElementKey, h: Rgb) {
-        let e = &mut mesh.elements[key];
+    pub fn receive(&mut self, mesh: &Mesh, radiosity: &mut Radiosity, key: ElementKey, h: Rgb) {
+        let e = &mesh.elements[key];
         let rho = mesh.surfaces[e.surface as usize].reflectance;
         let db = rho * h;
-        e.radiosity += db;
+        radiosity.add_to_element(key, db);
         if let Some(slot) = self.irradiance.get_mut(key) {
             *slot += h;
         } else {
@@ -211,21 +218,20 @@ impl ShootingState {
     /// Sets a new leaf's irradiance outright (after a gather) and its radiosity
     /// to `E + rho H`. The patch totals are brought up to date by
     /// [`ShootingState::resum_patch`].
-    pub fn set_leaf(&mut self, mesh: &mut Mesh, key: ElementKey, h: Rgb) {
-        let e = &mut mesh.elements[key];
+    pub fn set_leaf(&mut self, mesh: &Mesh, radiosity: &mut Radiosity, key: ElementKey, h: Rgb) {
+        let e = &mesh.elements[key];
         let s = &mesh.surfaces[e.surface as usize];
-        e.radiosity = s.emission + s.reflectance * h;
+        radiosity.set_element(key, s.emission + s.reflectance * h);
         self.irradiance.insert(key, h);
     }
 
     /// Recomputes patch `p`'s radiosity as the area mean of its leaves, and
     /// moves the change into its unshot radiosity so that what it has shot
     /// stays what it has shot. Returns the change in radiosity.
-    pub fn resum_patch(&mut self, mesh: &Mesh, p: u32) -> Rgb {
+    pub fn resum_patch(&mut self, mesh: &Mesh, radiosity: &Radiosity, p: u32) -> Rgb {
         let mut sum = Rgb::ZERO;
         for k in mesh.patch_leaves(p) {
-            let e = &mesh.elements[k];
-            sum += e.radiosity * e.area;
+            sum += radiosity.element(k) * mesh.elements[k].area;
         }
         let b = sum / self.areas[p as usize];
         let change = b - self.radiosity[p as usize];

@@ -4,6 +4,7 @@ use crate::math::Rgb;
 use crate::mesh::{Mesh, ShadingMesh};
 use crate::pipeline::ObjectRadiosity;
 use crate::scene::Scene;
+use crate::solve::Radiosity;
 
 /// A look at a progressive solve under way, handed to the preview callback.
 #[derive(Clone, Copy, Debug)]
@@ -16,9 +17,11 @@ pub struct Preview<'a> {
     pub ambient: Rgb,
     /// Seconds since the solve began.
     pub seconds: f64,
-    /// The mesh, leaf radiosities as shot so far (interior nodes are not kept
-    /// up to date during shooting).
+    /// The mesh.
     pub mesh: &'a Mesh,
+    /// Leaf radiosities as shot so far (interior nodes are not kept up to
+    /// date during shooting).
+    pub radiosity: &'a Radiosity,
 }
 
 impl Preview<'_> {
@@ -26,7 +29,7 @@ impl Preview<'_> {
     /// `with_ambient`.
     #[must_use]
     pub fn shading_mesh(&self, with_ambient: bool) -> ShadingMesh {
-        let mut vr = self.mesh.vertex_radiosity();
+        let mut vr = self.mesh.vertex_radiosity(|k| self.radiosity.element(k));
         if with_ambient {
             for (id, value) in &mut vr.values {
                 *value += self.mesh.surfaces[id.0 as usize].reflectance * self.ambient;
@@ -45,11 +48,11 @@ impl Preview<'_> {
             Rgb::ZERO
         };
         let mut sums = vec![(0.0, Rgb::ZERO); scene.objects.len()];
-        for e in self.mesh.elements.values().filter(|e| e.is_leaf()) {
+        for (k, e) in self.mesh.elements.iter().filter(|(_, e)| e.is_leaf()) {
             let s = &self.mesh.surfaces[e.surface as usize];
             let slot = &mut sums[s.object as usize];
             slot.0 += e.area;
-            slot.1 += (e.radiosity + s.reflectance * ambient) * e.area;
+            slot.1 += (self.radiosity.element(k) + s.reflectance * ambient) * e.area;
         }
         scene
             .objects

@@ -1,0 +1,153 @@
+//! The form factors of a solve: one row per leaf element, with the state of
+//! each, owned by the form-factor stage. The mesh holds geometry only.
+
+use super::Row;
+use crate::mesh::ElementKey;
+use slotmap::SecondaryMap;
+
+/// Where a leaf's row stands.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum RowState {
+    /// Not computed yet (a new leaf, or one whose row a split made stale).
+    #[default]
+    Pending,
+    /// Not computed because it is not needed: the leaf's surface reflects
+    /// nothing, so its radiosity is its emission whatever it receives.
+    Skipped,
+    /// Computed, and the leaf sees no front face (it lies under a box
+    /// standing on it): by reciprocity nothing sees it, so it takes no part
+    /// in the exchange.
+    ShutIn,
+    /// Computed, with what the leaf sees.
+    Computed(Row),
+    /// Computed and exposed, its entries no longer kept here: a solver that
+    /// keeps them in its own layout took them (the progressive solver's shot
+    /// cache), or had no more use for them.
+    Released,
+}
+
+impl RowState {
+    /// True when the leaf sees some front face: its row was computed and is
+    /// not empty.
+    #[must_use]
+    pub fn is_exposed(&self) -> bool {
+        matches!(self, RowState::Computed(_) | RowState::Released)
+    }
+
+    /// True when the row was computed (exposed or shut in).
+    #[must_use]
+    pub fn is_computed(&self) -> bool {
+        matches!(
+            self,
+            RowState::Computed(_) | RowState::ShutIn | RowState::Released
+        )
+    }
+}
+
+/// The rows of every leaf that has one, keyed by element.
+#[derive(Clone, Debug, Default)]
+pub struct FormFactors {
+    states: SecondaryMap<ElementKey, RowState>,
+}
+
+/// The state of a leaf with no entry.
+static PENDING: RowState = RowState::Pending;
+
+impl FormFactors {
+    /// An empty store: every leaf pending.
+    #[must_use]
+    pub fn new() -> Self {
+        FormFactors::default()
+    }
+
+    /// The state of leaf `k`'s row.
+    #[must_use]
+    pub fn state(&self, k: ElementKey) -> &RowState {
+        self.states.get(k).unwrap_or(&PENDING)
+    }
+
+    /// Leaf `k`'s row, if computed and held here.
+    #[must_use]
+    pub fn row(&self, k: ElementKey) -> Option<&Row> {
+        match self.states.get(k) {
+            Some(RowState::Computed(row)) => Some(row),
+            _ => None,
+        }
+    }
+
+    /// The stored `(patch, form factor)` pairs of leaf `k` (none unless
+    /// computed and exposed).
+    #[must_use]
+    pub fn entries(&self, k: ElementKey) -> &[(u32, f32)] {
+        self.row(k).map_or(&[], Row::entries)
+    }
+
+    /// True when leaf `k` sees some front face (see [`RowState::is_exposed`]).
+    #[must_use]
+    pub fn is_exposed(&self, k: ElementKey) -> bool {
+        self.state(k).is_exposed()
+    }
+
+    /// Stores a computed row: [`RowState::ShutIn`] when it is empty.
+    pub fn set_row(&mut self, k: ElementKey, row: Row) {
+        let state = if row.is_empty() {
+            RowState::ShutIn
+        } else {
+            RowState::Computed(row)
+        };
+        self.states.insert(k, state);
+    }
+
+    /// Marks leaf `k` as needing no row.
+    pub fn skip(&mut self, k: ElementKey) {
+        self.states.insert(k, RowState::Skipped);
+    }
+
+    /// Forgets leaf `k`'s row (it was split: its children get their own).
+    pub fn forget(&mut self, k: ElementKey) {
+        self.states.remove(k);
+    }
+
+    /// Frees leaf `k`'s entries, keeping its verdict (see
+    /// [`RowState::Released`]); returns the row (empty unless computed and
+    /// exposed).
+    pub fn release(&mut self, k: ElementKey) -> Row {
+        let Some(state) = self.states.get_mut(k) else {
+            return Row::default();
+        };
+        if !matches!(state, RowState::Computed(_)) {
+            return Row::default();
+        }
+        match std::mem::replace(state, RowState::Released) {
+            RowState::Computed(row) => row,
+            _ => Row::default(),
+        }
+    }
+
+    /// Every stored row with its leaf.
+    pub fn rows(&self) -> impl Iterator<Item = (ElementKey, &Row)> {
+        self.states.iter().filter_map(|(k, s)| match s {
+            RowState::Computed(row) => Some((k, row)),
+            _ => None,
+        })
+    }
+
+    /// Heap bytes of the stored rows' entries.
+    #[must_use]
+    pub fn row_bytes(&self) -> usize {
+        self.rows().map(|(_, r)| r.heap_bytes()).sum()
+    }
+
+    /// Stored entries over all rows.
+    #[must_use]
+    pub fn row_entries(&self) -> usize {
+        self.rows().map(|(_, r)| r.len()).sum()
+    }
+
+    /// Heap bytes of the store's own table (one slot per element key ever
+    /// seen), without the rows' entries.
+    #[must_use]
+    pub fn table_bytes(&self) -> usize {
+        self.states.capacity() * std::mem::size_of::<(u32, RowState)>()
+    }
+}

@@ -1,0 +1,237 @@
+//! The gathering solver: every leaf's row, Gauss-Seidel on the patch system,
+//! one gather per element; after each refinement pass, rows for the new
+//! leaves only and a warm re-solve.
+
+use super::split_rows::{update_rows_for_splits, SplitPatch};
+use super::strategy::{Next, Solver};
+use super::workspace::Workspace;
+use super::{Progress, Solution, SourcePassStats, Stage};
+use crate::error::Result;
+use crate::formfactor::Sources;
+use crate::math::Rgb;
+use crate::mesh::ElementKey;
+use crate::refine::mark_sources;
+use crate::solve::{
+    gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, GatherOptions, GatherTotals,
+    PatchSystem, SolveReport,
+};
+use std::time::Instant;
+
+/// Gauss-Seidel on the patch system, then the gather.
+pub(crate) struct Gathering {
+    system: PatchSystem,
+    /// Patch radiosities.
+    b: Vec<Rgb>,
+    report: SolveReport,
+    totals: GatherTotals,
+    /// Sweeps over all solves.
+    iterations: usize,
+    /// A refinement pass found nothing more to split.
+    settled: bool,
+}
+
+impl Gathering {
+    /// The first solution on the initial mesh of `ws`: every leaf's row, the
+    /// patch system solved and gathered, then source splitting if asked for.
+    pub fn start(ws: &mut Workspace<'_>) -> Result<Self> {
+        let leaves = ws.mesh.leaves();
+        ws.compute_rows(&leaves, 0);
+        let system = PatchSystem::from_mesh(&ws.mesh, &ws.form_factors);
+        let mut gathering = Gathering {
+            b: system.emission.clone(),
+            system,
+            report: SolveReport::default(),
+            totals: GatherTotals::default(),
+            iterations: 0,
+            settled: false,
+        };
+        let progress = ws.progress;
+        let report = |done| {
+            progress(Progress {
+                stage: Stage::Solve,
+                done,
+                total: 1,
+            });
+        };
+        report(0);
+        gathering.solve_and_gather(ws)?;
+        report(1);
+        let refine = &ws.settings.refine;
+        if let (None, Some(tolerance)) = (refine.uniform_depth, refine.source_tolerance) {
+            for _ in 0..refine.source_passes {
+                if !gathering.split_sources(ws, tolerance)? {
+                    break;
+                }
+            }
+        }
+        Ok(gathering)
+    }
+}
+
+impl Solver for Gathering {
+    fn advance(&mut self, ws: &mut Workspace<'_>) -> Result<Next> {
+        Ok(if !self.settled && ws.may_refine() {
+            Next::Refine
+        } else {
+            Next::Stop
+        })
+    }
+
+    fn refined(
+        &mut self,
+        ws: &mut Workspace<'_>,
+        fresh: &[ElementKey],
+        pass: usize,
+    ) -> Result<usize> {
+        let mut touched: Vec<u32> = fresh.iter().map(|k| ws.mesh.elements[*k].patch).collect();
+        touched.sort_unstable();
+        touched.dedup();
+        let before = ws.tally.hemicube.hemicubes;
+        ws.compute_rows(fresh, pass);
+        self.system.refresh(&ws.mesh, &ws.form_factors, &touched);
+        ws.stats.skips.patch_rows_refreshed += touched.len();
+        self.solve_and_gather(ws)?;
+        Ok((ws.tally.hemicube.hemicubes - before) as usize)
+    }
+
+    fn nothing_to_refine(&mut self, _ws: &mut Workspace<'_>) -> Result<()> {
+        self.settled = true;
+        Ok(())
+    }
+
+    fn finish(self, mut ws: Workspace<'_>) -> Solution {
+        ws.finish_stats(&self.system, self.report, self.iterations, self.totals);
+        Solution {
+            mesh: ws.mesh,
+            form_factors: ws.form_factors,
+            radiosity: ws.radiosity,
+            system: self.system,
+            stats: ws.stats,
+        }
+    }
+}
+
+impl Gathering {
+    /// Gauss-Seidel on the patch system from the current radiosities, then
+    /// the gather (both on one band in a grey scene); with
+    /// `Settings::bounces`, a fixed number of reflections from the emission
+    /// instead (no warm start).
+    fn solve_and_gather(&mut self, ws: &mut Workspace<'_>) -> Result<()> {
+        let t = Instant::now();
+        let plan = &ws.plan;
+        let options = GatherOptions {
+            grey: plan.grey,
+            rowless: plan.rowless_patch.as_deref(),
+        };
+        let (report, totals) = if let Some(n) = ws.settings.bounces {
+            gather_bounces(
+                &ws.mesh,
+                &ws.form_factors,
+                &mut ws.radiosity,
+                &self.system,
+                &mut self.b,
+                n,
+                &options,
+            )?
+        } else {
+            let report = if plan.grey {
+                ws.stats.skips.grey_solves += 1;
+                gauss_seidel_grey(&self.system, &mut self.b, &ws.settings.solver)?
+            } else {
+                gauss_seidel(&self.system, &mut self.b, &ws.settings.solver)?
+            };
+            let totals = gather_with(
+                &ws.mesh,
+                &ws.form_factors,
+                &mut ws.radiosity,
+                &self.b,
+                &options,
+            );
+            (report, totals)
+        };
+        self.iterations += report.iterations;
+        self.report = report;
+        self.totals = totals;
+        ws.stats.seconds.solve += t.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// One round of source-patch splitting: patches whose own elements
+    /// differ widely become four patches, rows are brought up to date (most
+    /// derived, the rest rendered anew) and the system solved again. Returns
+    /// false when no patch was split.
+    fn split_sources(&mut self, ws: &mut Workspace<'_>, tolerance: f64) -> Result<bool> {
+        let t_pass = Instant::now();
+        let refine = &ws.settings.refine;
+        let mut marks = mark_sources(
+            &ws.mesh,
+            &ws.form_factors,
+            &ws.radiosity,
+            tolerance,
+            ws.min_area,
+            refine.max_patch_depth,
+        );
+        let room = ws
+            .settings
+            .max_patches
+            .saturating_sub(ws.mesh.patches.len())
+            / 3;
+        marks.truncate(room);
+        if marks.is_empty() {
+            return Ok(false);
+        }
+        let mut splits = Vec::with_capacity(marks.len());
+        for &p in &marks {
+            let polygon = ws.mesh.patches[p as usize].polygon.clone();
+            // The patch's root, if a leaf, splits first.
+            let root = ws.mesh.patches[p as usize].root;
+            let root_was_leaf = ws.mesh.elements[root].is_leaf();
+            let children = ws.mesh.split_patch(p);
+            if root_was_leaf {
+                let kids = ws.mesh.elements[root].children.clone();
+                ws.split_done(root, &kids);
+            }
+            splits.push(SplitPatch {
+                old: p,
+                polygon,
+                children,
+            });
+            for id in children {
+                // Give each new patch the initial element depth below it.
+                let top = ws.mesh.elements[ws.mesh.patches[id as usize].root].depth;
+                for k in ws.mesh.patch_leaves(id) {
+                    if ws.mesh.elements[k].depth < top + refine.initial_depth {
+                        ws.split_to(k, top + refine.initial_depth);
+                    }
+                }
+            }
+        }
+        // Rows refer to patches: their entries for the split patches are
+        // derived where they can be, and the rest rendered anew.
+        ws.sources = Sources::from_mesh(&ws.mesh);
+        ws.plan.patches_changed(&ws.mesh);
+        let t = Instant::now();
+        let anew = update_rows_for_splits(&ws.mesh, &mut ws.form_factors, &ws.sources, &splits);
+        ws.stats.seconds.form_factors += t.elapsed().as_secs_f64();
+        ws.compute_rows(&anew, 0);
+        self.system = PatchSystem::from_mesh(&ws.mesh, &ws.form_factors);
+        // The four patches of a split one start from their roots'
+        // radiosities, the others from the last solve.
+        self.b.resize(ws.mesh.patches.len(), Rgb::ZERO);
+        for split in &splits {
+            for id in split.children {
+                let root = ws.mesh.patches[id as usize].root;
+                self.b[id as usize] = ws.radiosity.element(root);
+            }
+        }
+        self.solve_and_gather(ws)?;
+        ws.stats.source_passes.push(SourcePassStats {
+            patches_split: marks.len(),
+            patches: ws.mesh.patches.len(),
+            elements: ws.mesh.leaf_count(),
+            rows_rendered: anew.len(),
+            seconds: t_pass.elapsed().as_secs_f64(),
+        });
+        Ok(true)
+    }
+}

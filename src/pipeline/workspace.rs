@@ -1,0 +1,228 @@
+//! What a solve works on, whichever solver runs: the checked scene and
+//! settings, the mesh, the form-factor store, the figures and the progress
+//! callback. Set-up, checks, meshing, rows and refinement steps live here
+//! once, for both solvers.
+
+use super::coplanar::check_coplanar_overlaps;
+use super::skips::{RowPlan, RowTally};
+use super::{Progress, Settings, SolveStats, Stage};
+use crate::error::{Error, Result};
+use crate::formfactor::{compute_rows_with, FormFactors, Sources};
+use crate::mesh::{ElementKey, Mesh};
+use crate::refine::{mark_for_split, Marks};
+use crate::scene::Scene;
+use crate::solve::{GatherTotals, PatchSystem, Radiosity, SolveReport};
+use std::time::Instant;
+
+/// The shared state of one solve.
+pub(crate) struct Workspace<'a> {
+    pub scene: &'a Scene,
+    pub settings: &'a Settings,
+    pub progress: &'a (dyn Fn(Progress) + Sync),
+    /// When the solve began.
+    pub started: Instant,
+    pub mesh: Mesh,
+    /// The leaves' rows and their states.
+    pub form_factors: FormFactors,
+    /// The solution so far: element and patch radiosities.
+    pub radiosity: Radiosity,
+    /// The patches as polygons for the hemi-cubes.
+    pub sources: Sources,
+    /// How rows are computed, and what they may leave out.
+    pub plan: RowPlan,
+    /// What the rows cost and left out, over all passes.
+    pub tally: RowTally,
+    pub stats: SolveStats,
+    /// Smallest element area refinement may make.
+    pub min_area: f64,
+}
+
+impl<'a> Workspace<'a> {
+    /// Checks everything that can be known before the first form factor
+    /// (settings, the scene, overlapping surfaces), then cuts the mesh and
+    /// splits it to the initial depth.
+    pub fn prepare(
+        scene: &'a Scene,
+        settings: &'a Settings,
+        progress: &'a (dyn Fn(Progress) + Sync),
+    ) -> Result<Self> {
+        settings.validate()?;
+        if scene.surfaces.is_empty() {
+            return Err(Error::Geometry(format!(
+                "scene '{}' has no surfaces",
+                scene.name
+            )));
+        }
+        check_coplanar_overlaps(scene)?;
+        let started = Instant::now();
+        let refine = &settings.refine;
+        let min_area = refine
+            .min_element_area
+            .unwrap_or_else(|| (scene.diameter() * 1e-3).powi(2));
+        let t = Instant::now();
+        let mut mesh = Mesh::new(scene, settings.patch_size_for(scene), settings.max_patches)?;
+        split_uniformly(
+            &mut mesh,
+            refine.uniform_depth.unwrap_or(refine.initial_depth),
+            refine.max_elements,
+        )?;
+        let mut stats = SolveStats::default();
+        stats.seconds.mesh = t.elapsed().as_secs_f64();
+        let plan = RowPlan::new(&mesh, settings);
+        let sources = Sources::from_mesh(&mesh);
+        let radiosity = Radiosity::emitted(&mesh);
+        Ok(Workspace {
+            scene,
+            settings,
+            progress,
+            started,
+            mesh,
+            form_factors: FormFactors::new(),
+            radiosity,
+            sources,
+            plan,
+            tally: RowTally::default(),
+            stats,
+            min_area,
+        })
+    }
+
+    /// True while refinement passes may still run: the mesh adapts, and the
+    /// passes so far are fewer than allowed.
+    pub fn may_refine(&self) -> bool {
+        let refine = &self.settings.refine;
+        refine.uniform_depth.is_none() && self.stats.passes.len() < refine.max_passes
+    }
+
+    /// Computes the rows of those `keys` that need one (the plan leaves out
+    /// surfaces that reflect nothing) into the store, reporting progress as
+    /// refinement pass `pass`. Adds the seconds to the stats.
+    pub fn compute_rows(&mut self, keys: &[ElementKey], pass: usize) {
+        let started = Instant::now();
+        let (keys, left_out) = self.plan.needing_rows(&self.mesh, keys);
+        for k in &left_out {
+            self.form_factors.skip(*k);
+        }
+        self.tally.zero_reflectance_rows += left_out.len() as u64;
+        let total = keys.len();
+        let progress = self.progress;
+        let report = |done| {
+            progress(Progress {
+                stage: Stage::FormFactors { pass },
+                done,
+                total,
+            });
+        };
+        report(0);
+        let (rows, s) = compute_rows_with(
+            &self.mesh,
+            &self.sources,
+            &keys,
+            &self.plan.settings,
+            &self.plan.skips,
+            &report,
+        );
+        for (k, row) in keys.into_iter().zip(rows) {
+            self.form_factors.set_row(k, row);
+        }
+        self.tally.hemicube.add(&s);
+        self.stats.seconds.form_factors += started.elapsed().as_secs_f64();
+    }
+
+    /// Marks the leaves that differ from a neighbour by more than the
+    /// refinement tolerance, within the element budget.
+    pub fn mark(&mut self) -> Marks {
+        let refine = &self.settings.refine;
+        let room = refine.max_elements.saturating_sub(self.mesh.leaf_count());
+        let marks = mark_for_split(
+            &self.mesh,
+            &self.radiosity,
+            refine.tolerance,
+            refine.max_depth,
+            self.min_area,
+            room,
+        );
+        self.stats.final_max_difference = marks.max_difference;
+        marks
+    }
+
+    /// Splits the marked leaves and whatever the 2:1 balance then needs;
+    /// the split leaves' rows are forgotten, and their children start with
+    /// their radiosity. Returns the new leaves.
+    pub fn split_marked(&mut self, marks: &Marks) -> Vec<ElementKey> {
+        let mut fresh: Vec<ElementKey> = Vec::new();
+        for &k in &marks.split {
+            let children = self.mesh.split(k);
+            self.split_done(k, &children);
+            fresh.extend(children);
+        }
+        for k in self.mesh.balance(fresh.clone()) {
+            let children = self.mesh.elements[k].children.clone();
+            self.split_done(k, &children);
+            fresh.extend(children);
+        }
+        fresh.retain(|k| self.mesh.elements[*k].is_leaf());
+        fresh
+    }
+
+    /// Splits the leaf `key` and its descendants down to `depth`.
+    pub fn split_to(&mut self, key: ElementKey, depth: u8) {
+        if self.mesh.elements[key].depth >= depth {
+            return;
+        }
+        let children = self.mesh.split(key);
+        self.split_done(key, &children);
+        for k in children {
+            self.split_to(k, depth);
+        }
+    }
+
+    /// Brings the stores up to leaf `k` having split into `children`.
+    pub fn split_done(&mut self, k: ElementKey, children: &[ElementKey]) {
+        self.form_factors.forget(k);
+        self.radiosity.inherit(k, children);
+    }
+
+    /// Fills in the stats of the finished solve from its final patch
+    /// system, last solver report, sweeps over all solves and power totals.
+    pub fn finish_stats(
+        &mut self,
+        system: &PatchSystem,
+        report: SolveReport,
+        iterations: usize,
+        totals: GatherTotals,
+    ) {
+        self.stats.finish(
+            &self.mesh,
+            &self.form_factors,
+            &self.radiosity,
+            system,
+            self.scene,
+            self.settings,
+            report,
+            iterations,
+            totals,
+            self.tally.hemicube,
+        );
+        self.stats.skips.add_rows(&self.tally);
+        self.stats.seconds.total = self.started.elapsed().as_secs_f64();
+    }
+}
+
+/// Splits every patch to `depth`, failing if that would exceed `max_elements`.
+pub(crate) fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()> {
+    let leaves = mesh.patches.len() as f64 * 4f64.powi(i32::from(depth));
+    if leaves > max_elements as f64 {
+        return Err(Error::Limit(format!(
+            "{} patches split to depth {depth} give {leaves} elements, more than the \
+             element budget of {max_elements}",
+            mesh.patches.len()
+        )));
+    }
+    for _ in 0..depth {
+        for k in mesh.leaves() {
+            mesh.split(k);
+        }
+    }
+    Ok(())
+}
