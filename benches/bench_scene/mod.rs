@@ -98,7 +98,6 @@ pub fn row_settings(resolution: usize) -> RowSettings {
         table: Arc::new(DeltaTable::new(resolution)),
         seed: 1,
         method: FormFactorMethod::Hybrid,
-        emitter_rays: true,
         emitter_sampling: radiosity::formfactor::EmitterSampling::Centre,
     }
 }

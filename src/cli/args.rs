@@ -190,19 +190,12 @@ pub struct SolveSettingsArgs {
     /// Hemi-cube resolution: pixels across the top face (even).
     #[arg(long = "hemicube-res", default_value_t = 64)]
     pub hemicube_res: usize,
-    /// How hemi-cube pixels become form factors: hybrid (the hemi-cube decides
-    /// visibility, Lambert's exact formula the magnitude) or hemicube (classic
-    /// pixel sums).
-    #[arg(long = "form-factors", default_value = "hybrid")]
-    pub form_factors: radiosity::formfactor::FormFactorMethod,
-    /// Shadow rays for emitters a hemi-cube saw only in part (hybrid only).
-    #[arg(long = "emitter-rays", default_value = "on", value_parser = ["on", "off"])]
-    pub emitter_rays: String,
-    /// Emitter visibility (hybrid with emitter rays only): exact clipping at the
-    /// element's centre (centre), exact and averaged over Gauss points of the
-    /// element (element), or shadow rays from the centre (rays).
-    #[arg(long = "emitter-samples", default_value = "centre")]
-    pub emitter_samples: radiosity::formfactor::EmitterSampling,
+    /// Visibility of light sources seen in part: exact at each element's
+    /// centre (centre), or exact and averaged over points of each element
+    /// (element: far more accurate penumbrae, slightly less accurate means
+    /// at the default patch size).
+    #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "element"])]
+    pub emitter_samples: String,
     /// Largest patch edge in metres [default: the scene's diagonal / 10].
     #[arg(long = "patch-size")]
     pub patch_size: Option<f64>,
@@ -210,13 +203,6 @@ pub struct SolveSettingsArgs {
     /// largest radiosity.
     #[arg(long, default_value_t = 1e-5)]
     pub tolerance: f64,
-    /// Most Gauss-Seidel sweeps before giving up.
-    #[arg(long = "max-iterations", default_value_t = 100_000)]
-    pub max_iterations: usize,
-    /// Over-relaxation factor for Gauss-Seidel (1 = plain; try 1.5 when
-    /// reflectances are close to 1).
-    #[arg(long, default_value_t = 1.0)]
-    pub relaxation: f64,
     /// Solver: gauss-seidel (gathering) or progressive (shooting, with
     /// previews).
     #[arg(long, default_value = "gauss-seidel")]
@@ -231,25 +217,6 @@ pub struct SolveSettingsArgs {
     /// Progressive: stop after this many seconds of solving.
     #[arg(long = "time-budget")]
     pub time_budget: Option<f64>,
-    /// Progressive: each shot renders 4^N hemi-cubes from cells N levels below
-    /// the shooting patch.
-    #[arg(long = "shooter-depth", default_value_t = 1)]
-    pub shooter_depth: u8,
-    /// Progressive: only shots carrying at least this fraction of the emitted
-    /// power shoot from the cells of --shooter-depth; lighter ones from one
-    /// cell per patch (0 makes every shot fine).
-    #[arg(long = "fine-shot-power", default_value_t = 1e-3)]
-    pub fine_shot_power: f64,
-    /// Progressive: at the first refinement pass every element gathers its
-    /// row (as gauss-seidel does) and later shots deliver by the rows, so the
-    /// solve converges to the gauss-seidel solution; off keeps shooter-side
-    /// hemi-cubes throughout.
-    #[arg(long = "gather-rows", default_value = "on", value_parser = ["on", "off"])]
-    pub gather_rows: String,
-    /// Progressive: most mebibytes of form factors kept from each patch's shot
-    /// for its next shots (0 renders every shot anew).
-    #[arg(long = "shot-cache-mb", default_value_t = 256)]
-    pub shot_cache_mb: usize,
     /// Progressive: write NAME_preview_SHOTS.png (with the ambient term) every
     /// N shots.
     #[arg(long = "preview-every")]
@@ -271,13 +238,11 @@ pub struct SolveSettingsArgs {
     #[arg(long = "max-elements", default_value_t = 200_000)]
     pub max_elements: usize,
     /// Split a source patch whose elements spread by more than this fraction of
-    /// the brightest reflected radiosity (its children become patches); 0 never
-    /// splits sources. Try 0.1.
+    /// the brightest reflected radiosity (its children become patches; gauss-seidel
+    /// only); 0 never splits sources. Try 0.1 where sources are close to what
+    /// they light.
     #[arg(long = "source-tolerance", default_value_t = 0.0)]
     pub source_tolerance: f64,
-    /// Rounds of source splitting (each recomputes every row).
-    #[arg(long = "source-passes", default_value_t = 2)]
-    pub source_passes: usize,
     /// Subdivide every patch uniformly to this depth instead of adapting.
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,

@@ -45,15 +45,12 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
     }
     Ok(Settings {
         hemicube_resolution: a.hemicube_res,
-        form_factors: a.form_factors,
-        emitter_rays: a.emitter_rays == "on",
-        emitter_sampling: a.emitter_samples,
+        emitter_sampling: a.emitter_samples.parse().map_err(anyhow::Error::msg)?,
         patch_size: a.patch_size,
         seed: a.seed,
         solver: SolverSettings {
             tolerance: a.tolerance,
-            max_iterations: a.max_iterations,
-            relaxation: a.relaxation,
+            ..SolverSettings::default()
         },
         solver_kind,
         progressive: ProgressiveSettings {
@@ -61,10 +58,6 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             max_shots: a.max_shots,
             time_budget,
             preview_every: a.preview_every,
-            shooter_depth: a.shooter_depth,
-            fine_shot_power: a.fine_shot_power,
-            gather_rows: a.gather_rows == "on",
-            shot_cache_bytes: a.shot_cache_mb.saturating_mul(1 << 20),
             ..ProgressiveSettings::default()
         },
         refine: RefineSettings {
@@ -75,7 +68,6 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             min_element_area: a.min_element_area,
             max_elements: a.max_elements,
             source_tolerance: (a.source_tolerance > 0.0).then_some(a.source_tolerance),
-            source_passes: a.source_passes,
             ..RefineSettings::default()
         },
         bounces: if a.direct_only { Some(1) } else { a.bounces },

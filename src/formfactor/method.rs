@@ -31,9 +31,12 @@ impl FromStr for FormFactorMethod {
 }
 
 /// How the hybrid method decides what a receiver sees of an emitter patch
-/// (with `emitter_rays` on).
+/// that its hemi-cube saw only in part.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum EmitterSampling {
+    /// The hemi-cube's pixels alone, as for every other patch: penumbrae
+    /// are limited to the hemi-cube's resolution. For comparison.
+    Pixels,
     /// Shadow rays from the element's centre (stratified, jittered): the
     /// estimate of earlier versions, kept for comparison.
     Rays,
@@ -51,11 +54,12 @@ impl FromStr for EmitterSampling {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
+            "pixels" => Ok(EmitterSampling::Pixels),
             "rays" => Ok(EmitterSampling::Rays),
             "centre" => Ok(EmitterSampling::Centre),
             "element" => Ok(EmitterSampling::Element),
             _ => Err(format!(
-                "unknown emitter sampling '{s}' (rays, centre or element)"
+                "unknown emitter sampling '{s}' (pixels, rays, centre or element)"
             )),
         }
     }

@@ -19,10 +19,8 @@ pub struct RowSettings {
     pub seed: u64,
     /// How pixels become form factors.
     pub method: super::FormFactorMethod,
-    /// Ray cast the visibility of emitters the item buffer saw only in part
-    /// (hybrid method only).
-    pub emitter_rays: bool,
-    /// How emitter visibility is found.
+    /// How the visibility of emitters the item buffer saw only in part is
+    /// found (hybrid method only).
     pub emitter_sampling: super::EmitterSampling,
 }
 
@@ -118,7 +116,7 @@ pub fn compute_rows_with(
     let patches = mesh.patches.len();
     let exact = skips.unoccluded && settings.method == super::FormFactorMethod::Hybrid;
     let occluders = (!exact
-        && settings.emitter_rays
+        && settings.emitter_sampling != EmitterSampling::Pixels
         && settings.method == super::FormFactorMethod::Hybrid
         && !sources.emitters.is_empty())
     .then(|| Occluders::new(sources));
@@ -165,7 +163,7 @@ pub fn compute_rows_with(
                             EmitterSampling::Centre => {
                                 Samples::from_buf_and_len([(eye, 1.0); 4], 1)
                             }
-                            EmitterSampling::Rays => Samples::new(),
+                            EmitterSampling::Rays | EmitterSampling::Pixels => Samples::new(),
                         },
                         None => Samples::new(),
                     };

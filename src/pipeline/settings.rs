@@ -18,10 +18,9 @@ pub struct Settings {
     pub seed: u64,
     /// How hemi-cube pixels become form factors.
     pub form_factors: FormFactorMethod,
-    /// Ray cast the visibility of emitters that a hemi-cube saw only in part,
-    /// so that penumbrae are not limited to the hemi-cube's pixels.
-    pub emitter_rays: bool,
-    /// How emitter visibility is found (hybrid with emitter rays only).
+    /// How the visibility of emitters that a hemi-cube saw only in part is
+    /// found (hybrid method only), so that penumbrae are not limited to the
+    /// hemi-cube's pixels.
     pub emitter_sampling: EmitterSampling,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
@@ -50,7 +49,6 @@ impl Default for Settings {
             patch_size: None,
             seed: 1,
             form_factors: FormFactorMethod::default(),
-            emitter_rays: true,
             emitter_sampling: EmitterSampling::default(),
             solver: SolverSettings::default(),
             solver_kind: SolverKind::default(),
@@ -91,12 +89,6 @@ impl Settings {
             return bad(
                 "tolerance",
                 format!("must be positive, got {}", s.tolerance),
-            );
-        }
-        if !(s.relaxation > 0.0 && s.relaxation < 2.0) {
-            return bad(
-                "relaxation",
-                format!("must lie in (0, 2), got {}", s.relaxation),
             );
         }
         if self.solver_kind == SolverKind::Progressive && self.refine.source_tolerance.is_some() {

@@ -108,7 +108,6 @@ impl RowPlan {
                 table: Arc::new(DeltaTable::new(settings.hemicube_resolution)),
                 seed: settings.seed,
                 method: settings.form_factors,
-                emitter_rays: settings.emitter_rays,
                 emitter_sampling: settings.emitter_sampling,
             },
             skips: RowSkips {

@@ -147,7 +147,6 @@ mod tests {
             table: Arc::new(DeltaTable::new(64)),
             seed: 7,
             method: FormFactorMethod::Hybrid,
-            emitter_rays: true,
             emitter_sampling: EmitterSampling::Centre,
         };
         let leaves = mesh.leaves();

@@ -43,9 +43,6 @@ pub struct SolverSettings {
     pub tolerance: f64,
     /// Sweeps after which a solve that has not converged fails.
     pub max_iterations: usize,
-    /// Over-relaxation factor (1 is plain Gauss-Seidel). The extrapolation that
-    /// accelerates nearly singular systems is automatic, so this rarely helps.
-    pub relaxation: f64,
 }
 
 impl Default for SolverSettings {
@@ -53,7 +50,6 @@ impl Default for SolverSettings {
         SolverSettings {
             tolerance: 1e-5,
             max_iterations: 100_000,
-            relaxation: 1.0,
         }
     }
 }
@@ -275,7 +271,6 @@ fn iterate<V: Bands>(
     b: &mut [V],
     settings: &SolverSettings,
 ) -> Result<SolveReport> {
-    let omega = settings.relaxation;
     let mut report = SolveReport {
         contraction: q,
         ..SolveReport::default()
@@ -309,19 +304,15 @@ fn iterate<V: Bands>(
         if report.iterations >= settings.max_iterations {
             return Err(Error::Solver(format!(
                 "no convergence after {} sweeps: residual {residual:.3e}, error bound {:.3e} \
-                 (tolerance {:.1e} of {scale:.3e}); raise --max-iterations",
+                 (tolerance {:.1e} of {scale:.3e}): reflectances this close to 1 converge too \
+                 slowly; lower them or loosen --tolerance",
                 report.iterations, report.error_bound, settings.tolerance
             )));
         }
         before.clear();
         before.extend_from_slice(b);
         for i in 0..system.len() {
-            let gs = system.update(i, b);
-            b[i] = if omega == 1.0 {
-                gs
-            } else {
-                b[i] + (gs - b[i]) * omega
-            };
+            b[i] = system.update(i, b);
         }
         report.iterations += 1;
         residuals(system, b, &mut r_next);

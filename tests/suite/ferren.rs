@@ -6,6 +6,7 @@
 use glam::DVec3;
 use radiosity::analytic::QuadratureSettings;
 use radiosity::analytic::{integrate_over_polygon, parallel_rectangles, point_to_polygon};
+use radiosity::formfactor::EmitterSampling;
 use radiosity::math::Rgb;
 use radiosity::pipeline::ObjectRadiosity;
 use radiosity::refine::RefineSettings;
@@ -20,7 +21,7 @@ use radiosity::{Error, Settings};
 fn coarse(bounces: Option<u32>) -> Settings {
     Settings {
         hemicube_resolution: 64,
-        emitter_rays: false,
+        emitter_sampling: EmitterSampling::Pixels,
         refine: RefineSettings {
             uniform_depth: Some(0),
             ..RefineSettings::default()

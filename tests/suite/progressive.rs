@@ -745,3 +745,54 @@ fn rows_that_do_not_fit_the_budget_leave_the_shots_rendering() {
         }
     }
 }
+
+#[test]
+fn settings_the_progressive_solver_cannot_honour_are_refused_by_name() {
+    // Source-patch splitting belongs to gathering; the shooting solver says
+    // so instead of ignoring it.
+    let s = progressive(
+        Settings {
+            refine: RefineSettings {
+                source_tolerance: Some(0.1),
+                ..RefineSettings::default()
+            },
+            ..uniform(0.3, 1)
+        },
+        ProgressiveSettings::default(),
+    );
+    let e = radiosity::solve(&scenes::cornell_box(), &s, &|_| {}).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            radiosity::Error::Setting {
+                name: "source-tolerance",
+                ..
+            }
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn turning_off_the_empty_face_skip_renders_whole_faces_with_the_same_bits() {
+    // The progressive solver honours the skip switches its hemi-cubes use:
+    // off, every face is cleared and read out whole, and nothing changes.
+    let scene = scenes::cornell_box();
+    let base = progressive(uniform(0.2, 1), ProgressiveSettings::default());
+    let mut full = base.clone();
+    full.skips.empty_faces = false;
+    let (a, b) = (
+        radiosity::solve(&scene, &base, &|_| {}).unwrap(),
+        radiosity::solve(&scene, &full, &|_| {}).unwrap(),
+    );
+    assert!(a.stats().skips.pixels_skipped > 0);
+    assert_eq!(b.stats().skips.pixels_skipped, 0);
+    assert_eq!(b.stats().skips.empty_faces, 0);
+    let bits = |s: &Solution| -> Vec<[u64; 3]> {
+        s.leaves()
+            .iter()
+            .map(|l| l.radiosity.0.map(f64::to_bits))
+            .collect()
+    };
+    assert_eq!(bits(&a), bits(&b));
+}

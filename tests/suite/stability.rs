@@ -222,13 +222,12 @@ fn direct_solve(system: &PatchSystem, band: usize) -> Vec<f64> {
 
 #[test]
 fn the_accelerated_solver_agrees_with_a_direct_solve_within_its_bound() {
-    for (seed, relaxation) in [(1, 1.0), (2, 1.0), (3, 1.5), (4, 0.7)] {
+    for seed in 1..=4 {
         let system = random_system(40, seed);
         let exact: Vec<Vec<f64>> = (0..3).map(|band| direct_solve(&system, band)).collect();
         let mut b = system.emission.clone();
         let settings = SolverSettings {
             tolerance: 1e-9,
-            relaxation,
             ..SolverSettings::default()
         };
         let report = gauss_seidel(&system, &mut b, &settings).unwrap();
@@ -240,7 +239,7 @@ fn the_accelerated_solver_agrees_with_a_direct_solve_within_its_bound() {
             }
         }
         eprintln!(
-            "random system {seed} (relaxation {relaxation}): q {:.5}, {} sweeps ({} \
+            "random system {seed}: q {:.5}, {} sweeps ({} \
              extrapolated), error {worst:.2e}, bound {:.2e}",
             report.contraction, report.iterations, report.extrapolations, report.error_bound
         );

@@ -221,6 +221,7 @@ impl<'p> Shooting<'p> {
                 ws.plan.settings.table.clone(),
                 settings.seed,
                 settings.form_factors,
+                settings.skips.empty_faces,
             ),
             figures: ProgressiveStats {
                 shooter_depth: ps.shooter_depth,

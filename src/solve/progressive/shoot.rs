@@ -100,13 +100,23 @@ pub struct Shooter {
 
 impl Shooter {
     /// A shooter rendering hemi-cubes with `table`, rotated by `seed`, turning
-    /// pixels into form factors by `method`.
+    /// pixels into form factors by `method`; `skip_empty_faces` as
+    /// [`Hemicube::set_skip_empty_faces`].
     #[must_use]
-    pub fn new(table: Arc<DeltaTable>, seed: u64, method: FormFactorMethod) -> Self {
+    pub fn new(
+        table: Arc<DeltaTable>,
+        seed: u64,
+        method: FormFactorMethod,
+        skip_empty_faces: bool,
+    ) -> Self {
         let workers = rayon::current_num_threads().max(1);
         Shooter {
             cubes: (0..workers)
-                .map(|_| Hemicube::new(Arc::clone(&table), 0))
+                .map(|_| {
+                    let mut cube = Hemicube::new(Arc::clone(&table), 0);
+                    cube.set_skip_empty_faces(skip_empty_faces);
+                    cube
+                })
                 .collect(),
             seed,
             method,
