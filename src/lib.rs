@@ -28,6 +28,8 @@ pub mod formfactor;
 pub mod mesh;
 pub mod pipeline;
 pub mod refine;
+pub mod solution;
 pub mod solve;
 
-pub use pipeline::{solve, Settings, Solution};
+pub use pipeline::{solve, Settings};
+pub use solution::Solution;

@@ -5,8 +5,8 @@ use super::progress_bar::Bars;
 use super::solve_cmd::{load, settings, thread_pool};
 use anyhow::{bail, Context, Result};
 use glam::DVec3;
-use radiosity::pipeline::ProbeTolerance;
 use radiosity::scenes::penumbra::{self, PenumbraSpec};
+use radiosity::solution::ProbeTolerance;
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -2,8 +2,8 @@
 
 use super::hemicube::{DeltaTable, Hemicube, HemicubeStats};
 use super::{
-    element_samples, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility, Occluders,
-    Row, Samples, Sources,
+    element_samples, eye_lift, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility,
+    Occluders, Row, Samples, Sources,
 };
 use crate::mesh::{Cell, ElementKey, Mesh};
 use rayon::prelude::*;
@@ -136,9 +136,7 @@ pub fn compute_rows_with(
                 let lattice = &mesh.surfaces[e.surface as usize];
                 let h = element_seed(settings.seed, e.surface, &e.cell);
                 let angle = (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
-                // Lift the eye off the surface by a distance relative to the
-                // element's own size, so that the offset is scale invariant.
-                let lift = lattice.normal * (1e-6 * e.area.sqrt());
+                let lift = eye_lift(lattice.normal, e.area);
                 let eye = e.centroid + lift;
                 let (row, stats) = if exact {
                     let stats = HemicubeStats {
@@ -182,7 +180,7 @@ pub fn compute_rows_with(
                         settings.method,
                         rays,
                     );
-                    (row, cube.stats.since(&before))
+                    (row, cube.stats - before)
                 };
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(64) || n == keys.len() {
@@ -196,7 +194,7 @@ pub fn compute_rows_with(
     let rows = results
         .into_iter()
         .map(|(row, s)| {
-            stats.add(&s);
+            stats += s;
             row
         })
         .collect();

@@ -2,15 +2,15 @@
 //! one gather per element; after each refinement pass, rows for the new
 //! leaves only and a warm re-solve.
 
-use super::split_rows::{update_rows_for_splits, SplitPatch};
 use super::strategy::{Next, Solver};
 use super::workspace::Workspace;
-use super::{Progress, Solution, SourcePassStats, Stage};
+use super::{Progress, SourcePassStats, Stage};
 use crate::error::Result;
-use crate::formfactor::Sources;
+use crate::formfactor::{update_rows_for_splits, Sources, SplitPatch};
 use crate::math::Rgb;
 use crate::mesh::ElementKey;
 use crate::refine::mark_sources;
+use crate::solution::Solution;
 use crate::solve::{
     gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, GatherOptions, GatherTotals,
     PatchSystem, SolveReport,

@@ -6,26 +6,19 @@
 //! driver marks and splits the leaves that differ from their neighbours and
 //! the solver brings its solution up to the new mesh.
 
-mod coplanar;
 mod gathering;
-mod probe;
 mod progress;
 mod settings;
 mod shooting;
 mod skips;
-mod solution;
-mod split_rows;
 mod stats;
 mod strategy;
 mod workspace;
 
-pub use coplanar::COPLANAR_GAP;
-pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
 pub use progress::{Progress, Stage};
 pub use settings::Settings;
 pub use shooting::Preview;
 pub use skips::Skips;
-pub use solution::{Leaf, ObjectRadiosity, Solution};
 pub use stats::MemoryFigures;
 pub use stats::{
     EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
@@ -33,6 +26,7 @@ pub use stats::{
 
 use crate::error::Result;
 use crate::scene::Scene;
+use crate::solution::Solution;
 use crate::solve::SolverKind;
 use gathering::Gathering;
 use shooting::Shooting;

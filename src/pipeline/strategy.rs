@@ -3,9 +3,9 @@
 //! radiosities on whatever mesh the driver hands it.
 
 use super::workspace::Workspace;
-use super::Solution;
 use crate::error::Result;
 use crate::mesh::ElementKey;
+use crate::solution::Solution;
 
 /// What a solver wants next.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,14 +3,13 @@
 //! callback. Set-up, checks, meshing, rows and refinement steps live here
 //! once, for both solvers.
 
-use super::coplanar::check_coplanar_overlaps;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
 use crate::error::{Error, Result};
 use crate::formfactor::{compute_rows_with, FormFactors, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, Marks};
-use crate::scene::Scene;
+use crate::scene::{check_coplanar_overlaps, Scene};
 use crate::solve::{GatherTotals, PatchSystem, Radiosity, SolveReport};
 use std::time::Instant;
 
@@ -125,7 +124,7 @@ impl<'a> Workspace<'a> {
         for (k, row) in keys.into_iter().zip(rows) {
             self.form_factors.set_row(k, row);
         }
-        self.tally.hemicube.add(&s);
+        self.tally.hemicube += s;
         self.stats.seconds.form_factors += started.elapsed().as_secs_f64();
     }
 

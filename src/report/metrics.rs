@@ -3,7 +3,7 @@
 use super::ReferencePoints;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
-use crate::pipeline::Solution;
+use crate::solution::Solution;
 use serde::Serialize;
 
 /// The floor of the relative error as a fraction of the mean reference

@@ -3,9 +3,9 @@
 use super::ERROR_FLOOR_FRACTION;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
-use crate::pipeline::Solution;
 use crate::reference::{Reference, ReferenceSettings};
 use crate::scene::Scene;
+use crate::solution::Solution;
 use serde::Serialize;
 
 /// The path-traced mean radiosity of one object.

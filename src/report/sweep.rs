@@ -5,8 +5,9 @@ use super::metrics::{error_summary, point_errors, ErrorSummary};
 use super::objects::{object_errors, ObjectError, ObjectReference};
 use super::{Method, ReferencePoints, SweepRun};
 use crate::error::{Error, Result};
-use crate::pipeline::{solve, Solution};
+use crate::pipeline::solve;
 use crate::scene::Scene;
+use crate::solution::Solution;
 use serde::Serialize;
 use std::time::Instant;
 

@@ -4,11 +4,14 @@
 mod builder;
 mod camera;
 mod material;
+mod overlaps;
 mod surface;
 
 pub use builder::SceneBuilder;
 pub use camera::Camera;
 pub use material::Material;
+pub(crate) use overlaps::check_coplanar_overlaps;
+pub use overlaps::COPLANAR_GAP;
 pub use surface::Surface;
 
 use glam::DVec3;

@@ -140,7 +140,7 @@ fn elements_within(
     surface: u32,
     x: (f64, f64),
     z: (f64, f64),
-) -> Vec<radiosity::pipeline::Leaf<'_>> {
+) -> Vec<radiosity::solution::Leaf<'_>> {
     leaves(sol)
         .into_iter()
         .filter(|e| e.surface == surface)

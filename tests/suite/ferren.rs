@@ -8,10 +8,10 @@ use radiosity::analytic::QuadratureSettings;
 use radiosity::analytic::{integrate_over_polygon, parallel_rectangles, point_to_polygon};
 use radiosity::formfactor::EmitterSampling;
 use radiosity::math::Rgb;
-use radiosity::pipeline::ObjectRadiosity;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder};
 use radiosity::scenes::ferren::{ferren_sculpture, WHITE_PAINT};
+use radiosity::solution::ObjectRadiosity;
 use radiosity::solve::SolverKind;
 use radiosity::{Error, Settings};
 

@@ -4,10 +4,10 @@
 use super::penumbra_metrics::light_on_value;
 use glam::DVec3;
 use radiosity::math::Rgb;
-use radiosity::pipeline::{ProbeTolerance, Solution};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::Scene;
 use radiosity::scenes::{self, penumbra};
+use radiosity::solution::{ProbeTolerance, Solution};
 use radiosity::Settings;
 use std::path::{Path, PathBuf};
 use std::process::Command;

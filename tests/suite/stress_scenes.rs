@@ -3,9 +3,9 @@
 
 use glam::DVec3;
 use radiosity::math::Rgb;
-use radiosity::pipeline::Leaf;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::SceneBuilder;
+use radiosity::solution::Leaf;
 use radiosity::{Settings, Solution};
 
 /// Shorthand for a point.

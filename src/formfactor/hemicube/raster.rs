@@ -40,31 +40,38 @@ pub struct HemicubeStats {
 }
 
 impl HemicubeStats {
-    /// The counters gained since `before` (an earlier copy of these).
-    #[must_use]
-    pub fn since(&self, before: &HemicubeStats) -> HemicubeStats {
-        HemicubeStats {
-            hemicubes: self.hemicubes - before.hemicubes,
-            polygons_rasterized: self.polygons_rasterized - before.polygons_rasterized,
-            pixels_tested: self.pixels_tested - before.pixels_tested,
-            empty_faces: self.empty_faces - before.empty_faces,
-            pixels_skipped: self.pixels_skipped - before.pixels_skipped,
-            polygons_culled: self.polygons_culled - before.polygons_culled,
-            back_faces_skipped: self.back_faces_skipped - before.back_faces_skipped,
-            exact_rows: self.exact_rows - before.exact_rows,
+    /// Every counter, in declaration order, for element-wise arithmetic.
+    fn counters(&mut self) -> [&mut u64; 8] {
+        [
+            &mut self.hemicubes,
+            &mut self.polygons_rasterized,
+            &mut self.pixels_tested,
+            &mut self.empty_faces,
+            &mut self.pixels_skipped,
+            &mut self.polygons_culled,
+            &mut self.back_faces_skipped,
+            &mut self.exact_rows,
+        ]
+    }
+}
+
+impl std::ops::AddAssign for HemicubeStats {
+    fn add_assign(&mut self, mut other: HemicubeStats) {
+        for (a, b) in self.counters().into_iter().zip(other.counters()) {
+            *a += *b;
         }
     }
+}
 
-    /// Adds every counter of `other`.
-    pub fn add(&mut self, other: &HemicubeStats) {
-        self.hemicubes += other.hemicubes;
-        self.polygons_rasterized += other.polygons_rasterized;
-        self.pixels_tested += other.pixels_tested;
-        self.empty_faces += other.empty_faces;
-        self.pixels_skipped += other.pixels_skipped;
-        self.polygons_culled += other.polygons_culled;
-        self.back_faces_skipped += other.back_faces_skipped;
-        self.exact_rows += other.exact_rows;
+impl std::ops::Sub for HemicubeStats {
+    type Output = HemicubeStats;
+
+    /// The counters gained since `before` (an earlier copy of these).
+    fn sub(mut self, mut before: HemicubeStats) -> HemicubeStats {
+        for (a, b) in self.counters().into_iter().zip(before.counters()) {
+            *a -= *b;
+        }
+        self
     }
 }
 

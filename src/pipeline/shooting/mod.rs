@@ -8,10 +8,11 @@ pub use preview::Preview;
 
 use super::strategy::{Next, Solver};
 use super::workspace::Workspace;
-use super::{Progress, Solution, Stage};
+use super::{Progress, Stage};
 use crate::error::Result;
 use crate::math::Rgb;
 use crate::mesh::ElementKey;
+use crate::solution::Solution;
 use crate::solve::progressive::{
     adopt, ambient_term, HistoryPoint, ProgressiveStats, Receivers, Shooter, ShootingPass,
     ShootingState, ShotCache, StopReason, Stopping,
@@ -269,15 +270,12 @@ impl<'p> Shooting<'p> {
                 .map(|&(i, f)| (self.receivers.leaves[i as usize], f))
                 .collect();
             let f = &mut self.figures;
-            f.shot_hemicubes += shot.hemicubes;
-            f.shooter_splits += shot.splits;
-            f.reciprocity_clips += shot.clips;
-            f.hidden_eye_splits += shot.hidden_splits;
-            f.hidden_cells += shot.hidden_cells;
-            let h = &mut ws.tally.hemicube;
-            h.hemicubes += shot.hemicubes;
-            h.polygons_rasterized += shot.polygons_rasterized;
-            h.pixels_tested += shot.pixels_tested;
+            f.shot_hemicubes += shot.work.hemicubes;
+            f.shooter_splits += shot.cells.splits;
+            f.reciprocity_clips += shot.cells.clips;
+            f.hidden_eye_splits += shot.cells.hidden_splits;
+            f.hidden_cells += shot.cells.hidden_cells;
+            ws.tally.hemicube += shot.work;
             rendered = self.cache.store(patch, depth, keyed).err();
         } else {
             self.figures.cached_shots += 1;

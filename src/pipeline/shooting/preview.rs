@@ -2,8 +2,8 @@
 
 use crate::math::Rgb;
 use crate::mesh::{Mesh, ShadingMesh};
-use crate::pipeline::ObjectRadiosity;
 use crate::scene::Scene;
+use crate::solution::ObjectRadiosity;
 use crate::solve::Radiosity;
 
 /// A look at a progressive solve under way, handed to the preview callback.

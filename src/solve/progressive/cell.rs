@@ -2,11 +2,13 @@
 //! its eye is shut in or (classic) a reciprocal exceeds 1, and the form factors
 //! it contributes (see [`super::shoot`] for the forms).
 
-use super::shoot::{ShotFactors, HIDDEN_EYE};
+use super::shoot::{CellCounts, HIDDEN_EYE};
 use super::visibility::{partly_visible, ray_fraction, visible_fractions, ShooterEye};
 use super::Receivers;
-use crate::formfactor::hemicube::{Coverage, Hemicube};
-use crate::formfactor::{element_seed, point_to_polygon, FormFactorMethod, Sources};
+use crate::formfactor::hemicube::{Coverage, Hemicube, HemicubeStats};
+use crate::formfactor::{
+    element_seed, point_to_polygon, receiving_point, FormFactorMethod, Sources,
+};
 use crate::math::{clip_to_halfspace, polygon_area, polygon_centroid};
 use crate::mesh::{Cell, Mesh};
 use glam::DVec3;
@@ -25,8 +27,10 @@ struct CellShooter {
 pub(super) struct CellResult {
     /// `(leaf index, form factor)` contributions.
     pub(super) out: Vec<(u32, f64)>,
-    /// What it took.
-    pub(super) counts: ShotFactors,
+    /// What its cells did.
+    pub(super) counts: CellCounts,
+    /// Its hemi-cubes' work.
+    pub(super) work: HemicubeStats,
     /// The cells it turned out to consist of once shut-in parts were split
     /// off (and dropped where shut in at the deepest level).
     pub(super) open: Vec<Cell>,
@@ -50,7 +54,7 @@ impl CellContext<'_> {
         let lattice = &self.mesh.surfaces[self.surface as usize];
         let polygon = lattice.polygon(cell);
         let area = polygon_area(&polygon);
-        let eye = polygon_centroid(&polygon) + lattice.normal * (1e-6 * area.sqrt());
+        let eye = receiving_point(polygon_centroid(&polygon), lattice.normal, area);
         let h = element_seed(self.seed, self.surface, cell);
         let angle = (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
         CellShooter {
@@ -201,7 +205,7 @@ impl CellContext<'_> {
         s: &CellShooter,
         normal: DVec3,
         patches: &[Coverage],
-        counts: &mut ShotFactors,
+        counts: &mut CellCounts,
     ) -> Vec<Coverage> {
         let partly = partly_visible(patches);
         counts.partly_visible += partly.len();
@@ -301,7 +305,7 @@ impl CellContext<'_> {
             }
             let eye = ShooterEye {
                 occluders: &r.occluders,
-                point: polygon_centroid(&front) + normal * (1e-6 * s.area.sqrt()),
+                point: receiving_point(polygon_centroid(&front), normal, s.area),
                 surface: self.surface,
             };
             for i in r.patch_leaves[p].clone() {

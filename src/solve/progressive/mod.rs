@@ -54,7 +54,7 @@ pub use newborn::adopt;
 pub use receivers::Receivers;
 pub use report::{HistoryPoint, ProgressiveStats, ShootingPass};
 pub use settings::{ProgressiveSettings, SolverKind, MAX_SHOOTER_DEPTH};
-pub use shoot::{Shooter, ShotFactors, MAX_SHOOTER_SPLITS};
+pub use shoot::{CellCounts, Shooter, ShotFactors, MAX_SHOOTER_SPLITS};
 pub use state::{Delivery, ShootingState};
 pub use stopping::{StopReason, Stopping};
 pub use visibility::{partly_visible, visible_fractions, ShooterEye, RESOLVED_PIXELS};

@@ -1,7 +1,7 @@
 //! The receivers of a shot: the leaf elements in a stable order, as polygons
 //! for the shooter's item buffer (id = position in that order).
 
-use crate::formfactor::{Occluders, Sources};
+use crate::formfactor::{receiving_point, Occluders, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
@@ -66,7 +66,7 @@ impl Receivers {
                 *range = i as u32..i as u32;
             }
             range.end = i as u32 + 1;
-            eyes.push(e.centroid + n * (1e-6 * e.area.sqrt()));
+            eyes.push(receiving_point(e.centroid, n, e.area));
             normals.push(n);
             areas.push(e.area);
             reflectances.push(mesh.surfaces[e.surface as usize].reflectance);

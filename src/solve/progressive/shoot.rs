@@ -43,7 +43,7 @@
 
 use super::cell::{CellContext, CellResult};
 use super::Receivers;
-use crate::formfactor::hemicube::{DeltaTable, Hemicube};
+use crate::formfactor::hemicube::{DeltaTable, Hemicube, HemicubeStats};
 use crate::formfactor::FormFactorMethod;
 use crate::mesh::{Cell, Mesh};
 use rayon::prelude::*;
@@ -63,12 +63,15 @@ pub struct ShotFactors {
     /// `(leaf index, F_ei)`: the form factor from each receiving leaf to the
     /// shooting patch, in increasing leaf order, zeros left out.
     pub factors: Vec<(u32, f64)>,
-    /// Hemi-cubes rendered.
-    pub hemicubes: u64,
-    /// Polygon-face pairs scan converted.
-    pub polygons_rasterized: u64,
-    /// Pixels depth-tested.
-    pub pixels_tested: u64,
+    /// The hemi-cubes' work.
+    pub work: HemicubeStats,
+    /// What the shooter cells did.
+    pub cells: CellCounts,
+}
+
+/// What the cells of a shot did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CellCounts {
     /// Classic shooter cells split because a reciprocal form factor exceeded 1.
     pub splits: usize,
     /// Classic reciprocal form factors still above 1 at the lattice's finest
@@ -83,6 +86,16 @@ pub struct ShotFactors {
     /// Hybrid: patches found partly visible from a cell, whose leaves were
     /// rendered one by one (summed over cells).
     pub partly_visible: usize,
+}
+
+impl std::ops::AddAssign for CellCounts {
+    fn add_assign(&mut self, other: CellCounts) {
+        self.splits += other.splits;
+        self.clips += other.clips;
+        self.hidden_splits += other.hidden_splits;
+        self.hidden_cells += other.hidden_cells;
+        self.partly_visible += other.partly_visible;
+    }
 }
 
 /// Renders shots. Holds one hemi-cube per worker thread and reusable buffers.
@@ -182,10 +195,7 @@ impl Shooter {
                         let mut r = CellResult::default();
                         let before = cube.stats;
                         ctx.shoot(cube, cell, true, &mut r);
-                        r.counts.hemicubes = cube.stats.hemicubes - before.hemicubes;
-                        r.counts.polygons_rasterized =
-                            cube.stats.polygons_rasterized - before.polygons_rasterized;
-                        r.counts.pixels_tested = cube.stats.pixels_tested - before.pixels_tested;
+                        r.work = cube.stats - before;
                         r
                     })
                     .collect()
@@ -200,15 +210,12 @@ impl Shooter {
             self.dense.resize(receivers.len(), 0.0);
         }
         let mut shot = ShotFactors::default();
-        for CellResult { out, counts, .. } in results {
-            shot.hemicubes += counts.hemicubes;
-            shot.polygons_rasterized += counts.polygons_rasterized;
-            shot.pixels_tested += counts.pixels_tested;
-            shot.splits += counts.splits;
-            shot.clips += counts.clips;
-            shot.hidden_splits += counts.hidden_splits;
-            shot.hidden_cells += counts.hidden_cells;
-            shot.partly_visible += counts.partly_visible;
+        for CellResult {
+            out, counts, work, ..
+        } in results
+        {
+            shot.work += work;
+            shot.cells += counts;
             for (i, f) in out {
                 let slot = &mut self.dense[i as usize];
                 if *slot == 0.0 {

@@ -12,7 +12,7 @@
 //! emitter (whose entries come from exact shaft visibility), and elements
 //! without a row yet, need their hemi-cube rendered again.
 
-use crate::formfactor::{point_to_polygon, FormFactors, Row, RowState, Sources};
+use crate::formfactor::{point_to_polygon, receiving_point, FormFactors, Row, RowState, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -106,7 +106,7 @@ fn derived_row(
     }
     let e = &mesh.elements[k];
     let normal = mesh.surfaces[e.surface as usize].normal;
-    let eye = e.centroid + normal * (1e-6 * e.area.sqrt());
+    let eye = receiving_point(e.centroid, normal, e.area);
     let mut entries: Vec<(u32, f32)> = Vec::with_capacity(row.len() + 3 * splits.len());
     for &(j, f) in row.entries() {
         let Some(i) = split_of[j as usize] else {
@@ -138,7 +138,6 @@ mod tests {
     use super::*;
     use crate::formfactor::hemicube::DeltaTable;
     use crate::formfactor::{compute_rows, EmitterSampling, FormFactorMethod, RowSettings};
-    use crate::pipeline::workspace::split_uniformly;
     use crate::scenes::cornell_box;
     use std::sync::Arc;
 
@@ -162,7 +161,9 @@ mod tests {
         // row derived must equal the row rendered anew after the split, to
         // rounding, and most rows must be derived.
         let mut mesh = Mesh::new(&cornell_box(), 0.14, 100_000).unwrap();
-        split_uniformly(&mut mesh, 1, 100_000).unwrap();
+        for k in mesh.leaves() {
+            mesh.split(k);
+        }
         let sources = Sources::from_mesh(&mesh);
         let mut store = FormFactors::new();
         rows_for_all(&mesh, &mut store, &sources);
@@ -232,7 +233,9 @@ mod tests {
     #[test]
     fn rows_that_saw_a_split_emitter_are_rendered_anew() {
         let mut mesh = Mesh::new(&cornell_box(), 0.14, 100_000).unwrap();
-        split_uniformly(&mut mesh, 1, 100_000).unwrap();
+        for k in mesh.leaves() {
+            mesh.split(k);
+        }
         let sources = Sources::from_mesh(&mesh);
         let mut store = FormFactors::new();
         rows_for_all(&mesh, &mut store, &sources);

@@ -1,33 +1,20 @@
-//! The view-independent solution: element and vertex radiosities.
+//! The view-independent solution: element, patch and vertex radiosities,
+//! per-object means, probes at points, and a view of each leaf.
 
-use super::SolveStats;
-use crate::formfactor::{FormFactors, RowState};
+mod leaf;
+mod objects;
+mod probe;
+
+pub use leaf::Leaf;
+pub use objects::ObjectRadiosity;
+pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
+
+use crate::formfactor::FormFactors;
 use crate::math::Rgb;
-use crate::mesh::{Element, ElementKey, Mesh, ShadingMesh};
+use crate::mesh::{ElementKey, Mesh, ShadingMesh};
+use crate::pipeline::SolveStats;
 use crate::scene::Scene;
 use crate::solve::{PatchSystem, Radiosity};
-use serde::Serialize;
-use std::f64::consts::PI;
-
-/// Area and mean radiosity of one scene object (a glTF node with a mesh).
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct ObjectRadiosity {
-    /// The object's name.
-    pub name: String,
-    /// Its area in square metres.
-    pub area: f64,
-    /// Its area-weighted mean radiosity (exitance), per band.
-    pub radiosity: Rgb,
-}
-
-impl ObjectRadiosity {
-    /// The mean radiance a camera sees on the object: radiosity / pi, since
-    /// its surfaces are diffuse.
-    #[must_use]
-    pub fn radiance(&self) -> Rgb {
-        self.radiosity / PI
-    }
-}
 
 /// A solved scene.
 #[derive(Clone, Debug)]
@@ -37,56 +24,6 @@ pub struct Solution {
     pub(crate) radiosity: Radiosity,
     pub(crate) system: PatchSystem,
     pub(crate) stats: SolveStats,
-}
-
-/// A leaf element of a solution with what the solve found for it. Derefs to
-/// the [`Element`]'s geometry (area, centroid, surface, cell).
-#[derive(Clone, Copy, Debug)]
-pub struct Leaf<'a> {
-    /// Its key in the mesh.
-    pub key: ElementKey,
-    /// Its geometry.
-    pub element: &'a Element,
-    /// Its radiosity (exitance), per band.
-    pub radiosity: Rgb,
-    /// Its form-factor row and the row's state.
-    pub row: &'a RowState,
-}
-
-impl std::ops::Deref for Leaf<'_> {
-    type Target = Element;
-
-    fn deref(&self) -> &Element {
-        self.element
-    }
-}
-
-impl Leaf<'_> {
-    /// Its radiance (radiosity / pi): what a camera sees on a diffuse surface.
-    #[must_use]
-    pub fn radiance(&self) -> Rgb {
-        self.radiosity / PI
-    }
-
-    /// Its row's `(patch, form factor)` entries (none unless its row is
-    /// held: see [`RowState`]).
-    #[must_use]
-    pub fn entries(&self) -> &[(u32, f32)] {
-        match self.row {
-            RowState::Computed(row) => row.entries(),
-            _ => &[],
-        }
-    }
-
-    /// The sum of its row: the part of its hemisphere that sees a front face
-    /// (0 when its row is not held).
-    #[must_use]
-    pub fn row_sum(&self) -> f64 {
-        match self.row {
-            RowState::Computed(row) => row.sum(),
-            _ => 0.0,
-        }
-    }
 }
 
 impl Solution {
