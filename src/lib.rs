@@ -19,6 +19,7 @@ pub mod gltf_io;
 pub mod math;
 pub mod reference;
 pub mod render;
+#[cfg(feature = "cli")]
 pub mod report;
 pub mod scene;
 pub mod scenes;

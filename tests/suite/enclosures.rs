@@ -1,11 +1,14 @@
 //! Closed enclosures: row sums, energy balance, furnaces and the exact 6-patch
-//! cube.
+//! cube. A closed box is a convex enclosure, whose rows the solve takes from
+//! Lambert's formula with no hemi-cube; each test runs that shortcut and the
+//! general hemi-cube path (the skip turned off), and checks which ran.
 
 use super::common::{closed_box, rel, FaceMaterial};
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::pipeline::Skips;
 use radiosity::refine::RefineSettings;
-use radiosity::Settings;
+use radiosity::{Settings, Solution};
 
 fn uniform_settings(patch_size: f64, depth: u8) -> Settings {
     Settings {
@@ -18,15 +21,41 @@ fn uniform_settings(patch_size: f64, depth: u8) -> Settings {
     }
 }
 
+/// `settings` with the convex-enclosure shortcut on and off: the solutions
+/// of a closed box by exact rows and by hemi-cubes, each checked to have
+/// taken its path.
+fn both_paths(
+    scene: &radiosity::scene::Scene,
+    settings: &Settings,
+) -> [(&'static str, Solution); 2] {
+    let general = Settings {
+        skips: Skips {
+            convex: false,
+            ..Skips::default()
+        },
+        ..settings.clone()
+    };
+    let exact = radiosity::solve(scene, settings, &|_| {}).unwrap();
+    let hemicubes = radiosity::solve(scene, &general, &|_| {}).unwrap();
+    assert_eq!(
+        exact.stats().skips.exact_rows,
+        exact.stats().elements as u64
+    );
+    assert_eq!(hemicubes.stats().skips.exact_rows, 0);
+    assert!(hemicubes.stats().hemicube.hemicubes > 0);
+    [("exact rows", exact), ("hemi-cubes", hemicubes)]
+}
+
 #[test]
 fn every_row_of_a_closed_scene_sums_to_one() {
     let scene = closed_box(DVec3::new(1.0, 0.7, 1.3), [FaceMaterial::grey(0.5, 1.0); 6]);
-    let sol = radiosity::solve(&scene, &uniform_settings(0.25, 1), &|_| {}).unwrap();
-    let mut worst: f64 = 0.0;
-    for e in sol.leaves() {
-        worst = worst.max((e.row_sum() - 1.0).abs());
+    for (path, sol) in both_paths(&scene, &uniform_settings(0.25, 1)) {
+        let mut worst: f64 = 0.0;
+        for e in sol.leaves() {
+            worst = worst.max((e.row_sum() - 1.0).abs());
+        }
+        assert!(worst < 1e-3, "{path}: largest row-sum error {worst}");
     }
-    assert!(worst < 1e-3, "largest row-sum error {worst}");
 }
 
 #[test]
@@ -60,17 +89,18 @@ fn closed_box_with_mixed_reflectances_balances_energy() {
         },
     ];
     let scene = closed_box(DVec3::new(1.0, 1.0, 1.0), faces);
-    let sol = radiosity::solve(&scene, &uniform_settings(0.125, 0), &|_| {}).unwrap();
-    assert!(sol.stats().patches >= 6 * 64);
-    let e = sol.stats().energy.emitted_power;
-    let a = sol.stats().energy.absorbed_power;
-    for band in 0..3 {
-        assert!(
-            rel(a[band], e[band]) < 0.01,
-            "band {band}: emitted {} absorbed {}",
-            e[band],
-            a[band]
-        );
+    for (path, sol) in both_paths(&scene, &uniform_settings(0.125, 0)) {
+        assert!(sol.stats().patches >= 6 * 64);
+        let e = sol.stats().energy.emitted_power;
+        let a = sol.stats().energy.absorbed_power;
+        for band in 0..3 {
+            assert!(
+                rel(a[band], e[band]) < 0.01,
+                "{path}, band {band}: emitted {} absorbed {}",
+                e[band],
+                a[band]
+            );
+        }
     }
 }
 
@@ -78,15 +108,16 @@ fn closed_box_with_mixed_reflectances_balances_energy() {
 fn furnace_gives_e_over_one_minus_rho() {
     for rho in [0.5, 0.9] {
         let scene = closed_box(DVec3::new(1.0, 0.8, 1.2), [FaceMaterial::grey(rho, 1.0); 6]);
-        let sol = radiosity::solve(&scene, &uniform_settings(0.3, 1), &|_| {}).unwrap();
         let exact = 1.0 / (1.0 - rho);
-        for e in sol.leaves() {
-            for band in 0..3 {
-                assert!(
-                    rel(e.radiosity[band], exact) < 0.005,
-                    "rho {rho}: element {} vs exact {exact}",
-                    e.radiosity[band]
-                );
+        for (path, sol) in both_paths(&scene, &uniform_settings(0.3, 1)) {
+            for e in sol.leaves() {
+                for band in 0..3 {
+                    assert!(
+                        rel(e.radiosity[band], exact) < 0.005,
+                        "{path}, rho {rho}: element {} vs exact {exact}",
+                        e.radiosity[band]
+                    );
+                }
             }
         }
     }

@@ -111,7 +111,7 @@ fn penumbra_scenes_stay_within_their_golden_error_tolerances() {
 }
 
 /// The check: at `Settings::default()` (adaptive refinement, hybrid
-/// hemi-cube form factors at resolution 128), the floor elements of the
+/// hemi-cube form factors at the default resolution, 64), the floor elements of the
 /// parallel-edge penumbra scene are within 2 % of the oracle on average. The
 /// mean is the area-weighted mean absolute difference between each element's
 /// value and the exact mean over it, taken both as a fraction of the light-on

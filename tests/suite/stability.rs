@@ -254,6 +254,8 @@ fn hybrid_rows_of_a_closed_box_sum_to_one_even_with_patches_smaller_than_a_pixel
     // At 32 pixels a face, distant patches seen at grazing angles fall between
     // pixel centres; each still gets its exact form factor if visible, so a
     // closed scene's rows sum to 1 (they lost up to 2e-3 before).
+    // The convex-enclosure shortcut would give exact rows with no hemi-cube:
+    // off, so that the hemi-cube path is what is measured.
     let settings = Settings {
         hemicube_resolution: 32,
         patch_size: Some(0.1),
@@ -261,9 +263,14 @@ fn hybrid_rows_of_a_closed_box_sum_to_one_even_with_patches_smaller_than_a_pixel
             uniform_depth: Some(0),
             ..Default::default()
         },
+        skips: radiosity::pipeline::Skips {
+            convex: false,
+            ..Default::default()
+        },
         ..Settings::default()
     };
     let sol = radiosity::solve(&furnace(0.5), &settings, &|_| {}).unwrap();
+    assert_eq!(sol.stats().skips.exact_rows, 0);
     let worst = leaves(&sol)
         .iter()
         .map(|e| (e.row_sum() - 1.0).abs())

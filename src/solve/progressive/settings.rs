@@ -12,8 +12,10 @@ pub enum SolverKind {
     #[default]
     GaussSeidel,
     /// Progressive refinement (shooting): the patch with the most unshot power
-    /// renders a hemi-cube of element ids and distributes that power; no form
-    /// factors are stored.
+    /// renders a hemi-cube of element ids and distributes that power. Each
+    /// patch's factors are kept for its later shots, and once the first quick
+    /// shots are done every leaf gathers its row and later shots deliver by
+    /// the rows (see [`ProgressiveSettings::gather_rows`]).
     Progressive,
 }
 
