@@ -164,7 +164,7 @@ pub struct ExportArgs {
 #[derive(Args, Debug, Clone)]
 pub struct SolveArgs {
     /// A glTF 2.0 file (.gltf or .glb), or the name of a built-in scene
-    /// (cornell_box).
+    /// (cornell_box; atrium_N for an atrium of N triangles, e.g. atrium_200k).
     pub scene: String,
     /// Folder for NAME.png, NAME.exr and NAME.json (and NAME.hdr, NAME_false.png
     /// when asked for).
