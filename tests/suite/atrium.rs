@@ -10,7 +10,6 @@ use radiosity::scenes::atrium::{
 };
 use radiosity::{Error, Settings};
 use std::collections::HashMap;
-use std::time::Instant;
 
 /// |count / target - 1|.
 fn deviation(count: usize, target: usize) -> f64 {
@@ -20,7 +19,6 @@ fn deviation(count: usize, target: usize) -> f64 {
 #[test]
 fn built_scenes_have_their_target_triangle_count_within_ten_percent() {
     for target in [10_000, 30_000, 100_000, 1_000_000] {
-        let started = Instant::now();
         let scene = atrium(target).unwrap();
         let count = triangle_count(&scene);
         assert!(
@@ -30,10 +28,6 @@ fn built_scenes_have_their_target_triangle_count_within_ten_percent() {
         // The size search counts without building: the same number.
         let size = AtriumSize::for_target(target).unwrap();
         assert_eq!(size.triangles().unwrap(), count, "target {target}");
-        // Generating the largest size stays cheap (it took 0.5 s in release
-        // on a shared two-core machine; the bound leaves room for debug-like
-        // slowness, not for a quadratic blow-up).
-        assert!(started.elapsed().as_secs_f64() < 30.0, "target {target}");
     }
 }
 
@@ -77,6 +71,15 @@ fn targets_outside_the_range_are_refused() {
         ..bad
     };
     assert!(matches!(atrium_sized(&bad), Err(Error::Setting { .. })));
+    // In range field by field, but far too many triangles: refused before
+    // anything is built.
+    let huge = AtriumSize {
+        bays: atrium::MAX_BAYS,
+        balusters: true,
+        density: 60.0,
+    };
+    assert!(huge.triangles().unwrap() > atrium::MAX_BUILT_TRIANGLES);
+    assert!(matches!(atrium_sized(&huge), Err(Error::Limit(_))));
 }
 
 #[test]
@@ -174,7 +177,7 @@ fn every_surface_is_valid_at_every_layout() {
         assert_valid(&atrium(target).unwrap());
     }
     // The smallest and a coarse large layout, beyond the targets' choices.
-    for (bays, balusters, density) in [(3, true, 0.5), (12, true, 3.0), (4, false, 60.0)] {
+    for (bays, balusters, density) in [(3, true, 0.5), (12, true, 3.0), (4, false, 30.0)] {
         let size = AtriumSize {
             bays,
             balusters,

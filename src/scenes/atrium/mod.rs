@@ -98,10 +98,21 @@ pub fn atrium_default() -> Scene {
     atrium(DEFAULT_TRIANGLES).expect("the default size is in range")
 }
 
+/// Most triangles [`atrium_sized`] builds (about 2 GB of surfaces).
+pub const MAX_BUILT_TRIANGLES: usize = 10 * MAX_TRIANGLES;
+
 /// The atrium of an explicit layout and density, called `atrium`. Fails with
-/// [`Error::Setting`](crate::Error::Setting) when `size` is out of range.
+/// [`Error::Setting`](crate::Error::Setting) when `size` is out of range, and
+/// with [`Error::Limit`](crate::Error::Limit) when it would have more than
+/// [`MAX_BUILT_TRIANGLES`] (counted before anything is built).
 pub fn atrium_sized(size: &AtriumSize) -> Result<Scene> {
-    size.validate()?;
+    let triangles = size.triangles()?;
+    if triangles > MAX_BUILT_TRIANGLES {
+        return Err(crate::Error::Limit(format!(
+            "an atrium of {size:?} would have {triangles} triangles, more than \
+             {MAX_BUILT_TRIANGLES}; lower the density or the bays"
+        )));
+    }
     let mut builder = SceneBuilder::new("atrium");
     generator::generate(&mut builder, *size)?;
     builder.camera(camera::default_camera(&plan::Plan { bays: size.bays }));

@@ -14,7 +14,7 @@ pub const MAX_BAYS: u32 = 64;
 /// Lowest tessellation density (segments per metre of curved outline).
 pub const MIN_DENSITY: f64 = 0.5;
 /// Highest tessellation density (segments per metre).
-pub const MAX_DENSITY: f64 = 400.0;
+pub const MAX_DENSITY: f64 = 100.0;
 /// Bays of the smallest target's layout.
 pub const BAYS_AT_MIN: u32 = 5;
 /// From this target up the balustrades have turned balusters; below it they
