@@ -38,8 +38,8 @@
 //!   furniture stands on the floor; parts meet edge to edge, never overlapping
 //!   in one plane.
 //! - **Determinism**: variations come from a fixed hash, and sines and
-//!   cosines from arithmetic alone ([`trig`]), so a size gives the same bits
-//!   on every run and platform.
+//!   cosines from additions and multiplications alone (no platform maths
+//!   library), so a size gives the same bits on every run and platform.
 
 mod arches;
 mod balustrade;
@@ -68,7 +68,8 @@ pub const MIN_TRIANGLES: usize = 10_000;
 /// Largest target of [`atrium`].
 pub const MAX_TRIANGLES: usize = 1_000_000;
 /// The target of [`atrium_default`] and of the built-in name `atrium`: the
-/// smallest of the size series, the largest the solver handles today.
+/// smallest of the size series (a solve at default settings takes minutes
+/// today, and every larger size much longer).
 pub const DEFAULT_TRIANGLES: usize = 10_000;
 
 /// Unit vector from the scene towards the sun, for when the solver has

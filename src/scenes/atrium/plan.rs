@@ -1,13 +1,14 @@
 //! The atrium's plan and section: every dimension in metres, and the frames
 //! that place the two mirrored sides of the court.
 //!
-//! The building is `bays * BAY` long (x, west to east) and [`Plan::width`]
-//! wide (z, south to north); +y is up and the floor is at y = 0. Along each
-//! long side, from the outer wall in: an ambulatory [`AMBULATORY`] deep behind
-//! an arcade on columns, and above it [`GALLERIES`] storeys of galleries
-//! (balconies) opening onto the court over a balustrade, with columns
-//! carrying the slab above. The short sides are plain end walls. The court
-//! between the two arcades is open to the sky.
+//! The building is `bays * BAY` long (x, west to east) and
+//! `2 * (AMBULATORY + 2 * PIER_HALF) + COURT` wide (z, south to north); +y
+//! is up and the floor is at y = 0. Along each long side, from the outer
+//! wall in: an ambulatory [`AMBULATORY`] deep behind an arcade on columns,
+//! and above it [`GALLERIES`] storeys of galleries (balconies) opening onto
+//! the court over a balustrade, with columns carrying the slab above. The
+//! short sides are plain end walls. The court between the two arcades is
+//! open to the sky.
 
 use glam::DVec3;
 
