@@ -164,7 +164,8 @@ pub struct ExportArgs {
 #[derive(Args, Debug, Clone)]
 pub struct SolveArgs {
     /// A glTF 2.0 file (.gltf or .glb), or the name of a built-in scene
-    /// (cornell_box, ferren_sculpture, many_boxes, the penumbra_* scenes; an
+    /// (cornell_box, ferren_sculpture, many_boxes, the penumbra_* scenes, atrium,
+    /// or atrium_N for an atrium of about N triangles, e.g. atrium_200k; an
     /// unknown name lists them all).
     pub scene: String,
     /// Folder for NAME.png, NAME.exr and NAME.json (and NAME.hdr, NAME_false.png

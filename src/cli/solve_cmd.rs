@@ -25,8 +25,9 @@ pub fn load(scene: &str) -> Result<Scene> {
             return Ok(s);
         }
         bail!(
-            "'{scene}' is neither a file nor a built-in scene (built-in: {})",
-            scenes::NAMES.join(", ")
+            "'{scene}' is neither a file nor a built-in scene (built-in: {}, {})",
+            scenes::NAMES.join(", "),
+            scenes::SIZED_NAMES
         );
     }
     Ok(gltf_io::load_scene(path, &ImportLimits::default())?)
@@ -350,9 +351,10 @@ fn write_json<T: Serialize>(path: &PathBuf, value: &T) -> Result<()> {
 pub fn export_scene(a: &ExportArgs) -> Result<()> {
     let Some(scene) = scenes::by_name(&a.name) else {
         bail!(
-            "no built-in scene '{}' (built-in: {})",
+            "no built-in scene '{}' (built-in: {}, {})",
             a.name,
-            scenes::NAMES.join(", ")
+            scenes::NAMES.join(", "),
+            scenes::SIZED_NAMES
         );
     };
     gltf_io::write_scene(&scene, &a.output)?;

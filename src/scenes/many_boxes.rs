@@ -3,6 +3,7 @@
 //! built-in version ([`many_boxes`], 20 x 20 boxes) has over 2 000 patches; at
 //! uniform depth 3 it has over 100 000 elements.
 
+use super::hash::{splitmix64 as hash, unit as hash_unit};
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::scene::{Camera, Scene, SceneBuilder};
@@ -96,7 +97,7 @@ pub fn many_boxes_with(n: u32) -> Result<Scene> {
     for i in 0..n {
         for j in 0..n {
             let h = hash((u64::from(i) << 32) | u64::from(j));
-            let unit = |bits: u32| f64::from((h >> bits) as u16) / f64::from(u16::MAX);
+            let unit = |bits: u32| hash_unit(h, bits);
             let foot = 0.4 + 0.3 * unit(0);
             let height = 0.3 + 1.2 * unit(16);
             let material = box_materials[((h >> 32) % 3) as usize];
@@ -181,15 +182,6 @@ fn add_open_box(b: &mut SceneBuilder, material: u32, lo: DVec3, hi: DVec3) -> Re
         b.quad(material, v0, v1, v2, v3)?;
     }
     Ok(())
-}
-
-/// A fixed 64-bit mix (SplitMix64's finaliser): well-spread bits from a
-/// counter, identical on every platform.
-fn hash(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

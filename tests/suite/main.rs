@@ -2,6 +2,7 @@
 //! step instead of many on a small machine).
 
 mod adaptive;
+mod atrium;
 mod awkward_geometry;
 mod bake;
 mod common;
