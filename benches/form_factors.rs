@@ -44,7 +44,6 @@ fn hemicube_row(c: &mut Criterion) {
                     0.3,
                     e.surface,
                     FormFactorMethod::Hemicube,
-                    None,
                 ));
             });
         });
@@ -90,7 +89,6 @@ fn hemicube_stages(c: &mut Criterion) {
                                 0.3,
                                 e.surface,
                                 FormFactorMethod::Hemicube,
-                                None,
                             ));
                         }
                     }

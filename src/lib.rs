@@ -11,7 +11,7 @@
 //! - [`scene`]: a [`scene::Scene`] of planar surfaces with diffuse materials,
 //!   imported from glTF ([`gltf_io`]) or built in code ([`scene::SceneBuilder`],
 //!   [`scenes`]).
-#![warn(missing_docs)]
+#![warn(missing_docs, unreachable_pub)]
 
 pub mod analytic;
 pub mod error;

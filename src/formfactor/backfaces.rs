@@ -23,7 +23,7 @@ use glam::DVec3;
 
 /// Objects with more surfaces than this are not examined (matching their
 /// edges costs the square of their edge count).
-pub const MAX_OBJECT_SURFACES: usize = 256;
+pub(super) const MAX_OBJECT_SURFACES: usize = 256;
 
 /// Relative distance (to the scene's scale) within which two vertices are the
 /// same point, for matching shared edges.
@@ -49,7 +49,7 @@ impl ClosedObject {
 
 /// The closed convex objects of a mesh.
 #[derive(Clone, Debug, Default)]
-pub struct ClosedObjects {
+pub(crate) struct ClosedObjects {
     /// Per mesh surface, the index of its object in `objects`, if closed.
     object_of: Vec<Option<u32>>,
     objects: Vec<ClosedObject>,
@@ -59,7 +59,7 @@ impl ClosedObjects {
     /// Finds the scene objects of `mesh` whose back faces can hide nothing
     /// from outside them.
     #[must_use]
-    pub fn new(mesh: &Mesh) -> Self {
+    pub(crate) fn new(mesh: &Mesh) -> Self {
         let scale = scene_scale(mesh);
         let mut by_object: Vec<Vec<u32>> = Vec::new();
         for (s, lattice) in mesh.surfaces.iter().enumerate() {
@@ -90,13 +90,13 @@ impl ClosedObjects {
 
     /// True when no object qualifies.
     #[must_use]
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.objects.is_empty()
     }
 
     /// Sets `hidden[s]`, for every mesh surface `s`, to whether its back
     /// face is hidden from `eye` by front faces of its own object.
-    pub fn hidden_from(&self, eye: DVec3, hidden: &mut Vec<bool>) {
+    pub(crate) fn hidden_from(&self, eye: DVec3, hidden: &mut Vec<bool>) {
         let per_object: Vec<bool> = self
             .objects
             .iter()
@@ -198,5 +198,115 @@ fn missing_plane(
         // A flat object has no back face hidden from any eye outside it; one
         // with vertices on both sides is not bounded by the plane.
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Rgb;
+    use crate::scene::{Scene, SceneBuilder};
+    use crate::scenes;
+    use glam::DVec3;
+
+    fn surfaces_named(scene: &Scene, object: &str) -> Vec<u32> {
+        let o = scene
+            .objects
+            .iter()
+            .position(|x| x.name == object)
+            .unwrap_or_else(|| panic!("no object {object}"));
+        (0..scene.surfaces.len() as u32)
+            .filter(|&s| scene.surfaces[s as usize].object as usize == o)
+            .collect()
+    }
+
+    #[test]
+    fn closed_convex_objects_hide_their_back_faces_only_from_outside() {
+        let scene = scenes::cornell_box();
+        let mesh = Mesh::new(&scene, scene.diameter() / 4.0, 10_000).unwrap();
+        let objects = ClosedObjects::new(&mesh);
+        let mut hidden = Vec::new();
+        let hidden_for = |eye: DVec3, hidden: &mut Vec<bool>, object: &str| {
+            objects.hidden_from(eye, hidden);
+            surfaces_named(&scene, object)
+                .iter()
+                .map(|&s| hidden[s as usize])
+                .collect::<Vec<bool>>()
+        };
+        // From the middle of the room both blocks (open only at the floor) hide
+        // their back faces; no wall, nor the light, ever does.
+        let centre = DVec3::new(0.28, 0.45, 0.28);
+        for block in ["short_block", "tall_block"] {
+            assert!(
+                hidden_for(centre, &mut hidden, block).iter().all(|h| *h),
+                "{block}"
+            );
+        }
+        for other in [
+            "floor",
+            "ceiling",
+            "back_wall",
+            "left_wall",
+            "right_wall",
+            "light",
+        ] {
+            assert!(
+                hidden_for(centre, &mut hidden, other).iter().all(|h| !*h),
+                "{other}"
+            );
+        }
+        // A floor point under the short block is inside it: every back face
+        // counts there (they hide the whole room).
+        let short = surfaces_named(&scene, "short_block");
+        let top = short
+            .iter()
+            .map(|&s| &scene.surfaces[s as usize])
+            .find(|s| s.normal.y > 0.9)
+            .unwrap();
+        let under = top.centroid() * DVec3::new(1.0, 0.0, 1.0) + DVec3::new(0.0, 1e-6, 0.0);
+        assert!(hidden_for(under, &mut hidden, "short_block")
+            .iter()
+            .all(|h| !*h));
+        // Below the floor a ray could enter through the missing bottom.
+        let below = top.centroid() * DVec3::new(1.0, 0.0, 1.0) - DVec3::new(0.2, 0.1, 0.0);
+        assert!(hidden_for(below, &mut hidden, "short_block")
+            .iter()
+            .all(|h| !*h));
+    }
+
+    #[test]
+    fn an_open_box_shows_its_inside_through_the_opening() {
+        let mut b = SceneBuilder::new("open_box");
+        let m = b.material("m", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        b.axis_box("box", m, DVec3::ZERO, DVec3::ONE).unwrap();
+        let closed = b.build().unwrap();
+        let mut open = closed.clone();
+        open.surfaces.retain(|s| s.normal.y < 0.9);
+        assert_eq!(open.surfaces.len(), 5);
+        let mut hidden = Vec::new();
+        let all_hidden = |scene: &Scene, eye: DVec3, hidden: &mut Vec<bool>| {
+            ClosedObjects::new(&Mesh::new(scene, 1.0, 100).unwrap()).hidden_from(eye, hidden);
+            assert_eq!(hidden.len(), scene.surfaces.len());
+            hidden.iter().all(|h| *h)
+        };
+        let (above, beside, inside) = (
+            DVec3::new(0.5, 2.0, 0.5),
+            DVec3::new(2.0, 0.5, 0.5),
+            DVec3::new(0.5, 0.5, 0.5),
+        );
+        // Closed: hidden from anywhere outside.
+        assert!(all_hidden(&closed, above, &mut hidden));
+        assert!(all_hidden(&closed, beside, &mut hidden));
+        assert!(!hidden.is_empty() && !all_hidden(&closed, inside, &mut hidden));
+        assert!(hidden.iter().all(|h| !*h), "back faces hidden from inside");
+        // Open at the top: from above, the inside shows through the opening.
+        assert!(all_hidden(&open, beside, &mut hidden));
+        all_hidden(&open, above, &mut hidden);
+        assert!(
+            hidden.iter().all(|h| !*h),
+            "back faces hidden through the opening"
+        );
+        all_hidden(&open, inside, &mut hidden);
+        assert!(hidden.iter().all(|h| !*h), "back faces hidden from inside");
     }
 }

@@ -29,7 +29,7 @@ impl Occluders {
     /// unit `normal` first meets a back face (ignoring polygons of
     /// `own_surface`, the plane the point lies on).
     #[must_use]
-    pub fn is_shut_in(
+    pub(crate) fn is_shut_in(
         &self,
         sources: &Sources,
         eye: DVec3,

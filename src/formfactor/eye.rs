@@ -7,13 +7,13 @@ use glam::DVec3;
 /// neighbours in it are behind the eye, close enough to change no form
 /// factor, and relative to the receiver's size so that results do not
 /// depend on the scene's scale.
-pub const EYE_LIFT: f64 = 1e-6;
+pub(super) const EYE_LIFT: f64 = 1e-6;
 
 /// The offset from a receiver's surface to its eye, for a receiver of `area`
 /// on a surface with unit `normal`.
 #[inline]
 #[must_use]
-pub fn eye_lift(normal: DVec3, area: f64) -> DVec3 {
+pub(crate) fn eye_lift(normal: DVec3, area: f64) -> DVec3 {
     normal * (EYE_LIFT * area.sqrt())
 }
 
@@ -21,6 +21,6 @@ pub fn eye_lift(normal: DVec3, area: f64) -> DVec3 {
 /// surface with unit `normal`.
 #[inline]
 #[must_use]
-pub fn receiving_point(centroid: DVec3, normal: DVec3, area: f64) -> DVec3 {
+pub(crate) fn receiving_point(centroid: DVec3, normal: DVec3, area: f64) -> DVec3 {
     centroid + eye_lift(normal, area)
 }

@@ -11,14 +11,14 @@ use glam::DVec3;
 use smallvec::SmallVec;
 
 /// Points with weights summing to 1.
-pub type Samples = SmallVec<[(DVec3, f64); 4]>;
+pub(crate) type Samples = SmallVec<[(DVec3, f64); 4]>;
 
 /// Gauss points over the convex quad or triangle `polygon`, each moved by
 /// `lift` (off the surface, as the hemi-cube's eye is). Quads use 2 x 2 Gauss
 /// points of the bilinear map weighted by its Jacobian; triangles the
 /// three-point rule of degree two.
 #[must_use]
-pub fn element_samples(polygon: &[DVec3], lift: DVec3) -> Samples {
+pub(crate) fn element_samples(polygon: &[DVec3], lift: DVec3) -> Samples {
     let mut out = Samples::new();
     match polygon.len() {
         4 => {

@@ -35,7 +35,7 @@ fn mix(mut z: u64) -> u64 {
 /// lattice cell), so that its hemi-cube rotation does not depend on the order
 /// in which elements were created or on the thread that computes it.
 #[must_use]
-pub fn element_seed(seed: u64, surface: u32, cell: &Cell) -> u64 {
+pub(crate) fn element_seed(seed: u64, surface: u32, cell: &Cell) -> u64 {
     let (a, b, s, kind) = match *cell {
         Cell::Quad { u, v, size } => (u, v, size, 0u64),
         Cell::Tri { a, b, size, up } => (a, b, size, 1 + u64::from(up)),
@@ -53,12 +53,12 @@ pub fn element_seed(seed: u64, surface: u32, cell: &Cell) -> u64 {
     h
 }
 
-/// Work [`compute_rows_with`] may leave out. `empty_faces` gives the same
+/// Work `compute_rows_with` may leave out. `empty_faces` gives the same
 /// bits as the full work; `hidden_back_faces` the same but for silhouette
 /// pixels a back face won by rounding; `unoccluded` gives exact rows where
 /// the hemi-cube approximates, and is right only for convex enclosures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct RowSkips {
+pub(crate) struct RowSkips {
     /// The scene is a convex enclosure ([`super::is_convex_enclosure`]
     /// holds), so hybrid rows are the exact unoccluded form factors, with no
     /// hemi-cube. Off by default: elsewhere such rows would ignore occlusion.
@@ -84,8 +84,8 @@ impl Default for RowSkips {
 /// Computes the hemi-cube row of each element in `keys` (in parallel, one
 /// reusable hemi-cube per worker). Results are in the order of `keys` and do
 /// not depend on the thread count. `progress` is called with the number of rows
-/// finished so far. The same as [`compute_rows_with`] and the default
-/// [`RowSkips`].
+/// finished so far. The same as `compute_rows_with` and the default
+/// `RowSkips`.
 pub fn compute_rows(
     mesh: &Mesh,
     sources: &Sources,
@@ -104,7 +104,7 @@ pub fn compute_rows(
 }
 
 /// [`compute_rows`], leaving out the work `skips` allows.
-pub fn compute_rows_with(
+pub(crate) fn compute_rows_with(
     mesh: &Mesh,
     sources: &Sources,
     keys: &[ElementKey],

@@ -18,14 +18,14 @@ use glam::DVec3;
 /// behind a plane and still count as on it: a shared edge's vertices read from
 /// single-precision files differ by about `1e-7` of the coordinates. An
 /// occluder thinner than this hides nothing measurable.
-pub const CONVEX_TOLERANCE: f64 = 1e-6;
+pub(super) const CONVEX_TOLERANCE: f64 = 1e-6;
 
 /// Whether the surfaces of `mesh` form a convex enclosure (or an open part of
 /// one): every vertex of every surface on or in front of every surface's
 /// plane, within [`CONVEX_TOLERANCE`] of the scene's scale plus the plane's
 /// own departure from planarity. Then no element's view is occluded.
 #[must_use]
-pub fn is_convex_enclosure(mesh: &Mesh) -> bool {
+pub(crate) fn is_convex_enclosure(mesh: &Mesh) -> bool {
     let scale = scene_scale(mesh);
     let base = CONVEX_TOLERANCE * scale;
     // Distinct planes only: a tessellated wall is one plane however many
@@ -63,7 +63,12 @@ pub fn is_convex_enclosure(mesh: &Mesh) -> bool {
 /// occlusion. As with the hybrid method, a row whose sum would exceed 1 (by
 /// rounding) is scaled back to 1.
 #[must_use]
-pub fn unoccluded_row(sources: &Sources, eye: DVec3, normal: DVec3, own_surface: u32) -> Row {
+pub(crate) fn unoccluded_row(
+    sources: &Sources,
+    eye: DVec3,
+    normal: DVec3,
+    own_surface: u32,
+) -> Row {
     let mut entries: Vec<(u32, f64)> = Vec::new();
     for (id, poly) in sources.polygons.iter().enumerate() {
         if poly.surface == own_surface || (poly.centre - eye).dot(normal) < -poly.radius {
@@ -86,7 +91,7 @@ pub fn unoccluded_row(sources: &Sources, eye: DVec3, normal: DVec3, own_surface:
 /// The scene's bounding-box diagonal plus its largest coordinate: the scale
 /// of the rounding error of any coordinate or plane offset.
 #[must_use]
-pub fn scene_scale(mesh: &Mesh) -> f64 {
+pub(crate) fn scene_scale(mesh: &Mesh) -> f64 {
     let mut lo = DVec3::INFINITY;
     let mut hi = DVec3::NEG_INFINITY;
     for v in mesh.surfaces.iter().flat_map(|s| s.vertices.iter()) {

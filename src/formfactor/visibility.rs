@@ -30,7 +30,7 @@ impl Boundable for Bounds {
 /// What the item buffer saw of an emitter patch, which sets how far the rays
 /// must go before their answer is trusted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PixelHint {
+pub(crate) enum PixelHint {
     /// Every pixel it covered it won. An occluder may still hide less than a
     /// pixel row of it, so 4 x 4 rays check; any blocked ray means a full count.
     Whole,
@@ -47,7 +47,7 @@ pub enum PixelHint {
 /// element (point, weight; the weights sum to 1), so that an emitter's entry is
 /// the element's mean form factor rather than its centre's.
 #[derive(Clone, Copy, Debug)]
-pub struct EmitterVisibility<'a> {
+pub(crate) struct EmitterVisibility<'a> {
     /// Every patch polygon, for shaft and ray queries.
     pub occluders: &'a Occluders,
     /// Seed of the row's rays.
@@ -59,7 +59,7 @@ pub struct EmitterVisibility<'a> {
 }
 
 /// Every patch polygon as an occluder, for shadow rays.
-pub struct Occluders {
+pub(crate) struct Occluders {
     pub(super) bvh: Bvh2,
     /// Coordinates are stored relative to this centre so that the BVH's single
     /// precision boxes keep their accuracy far from the origin.
@@ -103,7 +103,7 @@ fn point_on(v: &[DVec3], s: f64, t: f64) -> DVec3 {
 impl Occluders {
     /// A BVH over every patch polygon of `sources`.
     #[must_use]
-    pub fn new(sources: &Sources) -> Self {
+    pub(crate) fn new(sources: &Sources) -> Self {
         let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
         for p in &sources.polygons {
             for v in &p.vertices[..p.count as usize] {
@@ -169,7 +169,7 @@ impl Occluders {
     /// summing to 1) of the visible form factor to patch `target`, each computed
     /// exactly by clipping; `None` if any point needs the rays instead.
     #[must_use]
-    pub fn mean_visible_form_factor(
+    pub(crate) fn mean_visible_form_factor(
         &self,
         sources: &Sources,
         samples: &[(DVec3, f64)],
@@ -269,7 +269,7 @@ impl Occluders {
     /// or hidden sliver can slip between the first samples.
     #[must_use]
     #[allow(clippy::too_many_arguments)]
-    pub fn visible_fraction(
+    pub(crate) fn visible_fraction(
         &self,
         sources: &Sources,
         eye: DVec3,

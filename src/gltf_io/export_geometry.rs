@@ -30,7 +30,7 @@ pub(super) struct GeometryWriter {
 impl GeometryWriter {
     /// The mesh of object `object` (its surfaces' indices in `surfaces`), or `None`
     /// when it has no surfaces.
-    pub fn object_mesh(
+    pub(super) fn object_mesh(
         &mut self,
         root: &mut Root,
         scene: &Scene,
@@ -94,7 +94,7 @@ impl GeometryWriter {
 
     /// A triangle-list primitive from vertex streams and `u32` indices, using
     /// material `material`. Positions get the `min`/`max` bounds glTF requires.
-    pub fn triangle_primitive(
+    pub(super) fn triangle_primitive(
         &mut self,
         root: &mut Root,
         streams: &VertexStreams,

@@ -14,11 +14,11 @@ pub const MAX_DEPTH: u8 = 12;
 
 /// A point in a surface lattice, at four times the lattice resolution so that
 /// probes just beside an edge midpoint are representable.
-pub type Probe = (i64, i64);
+pub(crate) type Probe = (i64, i64);
 
 /// A probe beside an edge's midpoint (outside the cell), and the edge's two
 /// lattice endpoints.
-pub type EdgeProbe = (Probe, (u32, u32), (u32, u32));
+pub(super) type EdgeProbe = (Probe, (u32, u32), (u32, u32));
 
 /// One quadtree node's region in its surface's lattice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

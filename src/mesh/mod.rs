@@ -10,9 +10,11 @@ mod lattice;
 mod locate;
 mod shading;
 
-pub use cell::{Cell, Probe, MAX_DEPTH};
+pub(crate) use cell::Probe;
+pub use cell::{Cell, MAX_DEPTH};
 pub use element::{Element, ElementKey, Patch};
-pub use lattice::{PatchGrid, SurfaceLattice};
+pub(crate) use lattice::PatchGrid;
+pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity};
 
 use crate::error::{Error, Result};

@@ -13,7 +13,7 @@ use glam::DVec3;
 use std::collections::HashMap;
 
 /// A lattice vertex: surface and lattice coordinates.
-pub type VertexId = (u32, u32, u32);
+pub(super) type VertexId = (u32, u32, u32);
 
 /// Radiosity at every lattice vertex of the leaves.
 #[derive(Clone, Debug, Default)]

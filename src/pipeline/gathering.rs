@@ -33,7 +33,7 @@ pub(crate) struct Gathering {
 impl Gathering {
     /// The first solution on the initial mesh of `ws`: every leaf's row, the
     /// patch system solved and gathered, then source splitting if asked for.
-    pub fn start(ws: &mut Workspace<'_>) -> Result<Self> {
+    pub(super) fn start(ws: &mut Workspace<'_>) -> Result<Self> {
         let leaves = ws.mesh.leaves();
         ws.compute_rows(&leaves, 0);
         let system = PatchSystem::from_mesh(&ws.mesh, &ws.form_factors);

@@ -1,6 +1,6 @@
 //! The whole solve: mesh, form factors, coarse solve, gather, refine, repeat.
 //!
-//! One driver runs both solvers: [`Workspace::prepare`](workspace) checks
+//! One driver runs both solvers: `Workspace::prepare` checks
 //! the settings and the scene and cuts the mesh; the chosen solver (gathering
 //! or shooting) produces a first solution; then, while the mesh adapts, the
 //! driver marks and splits the leaves that differ from their neighbours and

@@ -35,7 +35,7 @@ pub struct Settings {
     /// `None`: the full solution. `Some(n)`: emitted light and exactly `n`
     /// reflections, no more (`Some(1)` is direct light only, what a ray tracer
     /// without an ambient term computes for diffuse surfaces); gathering solver
-    /// only. See [`crate::solve::bounces`].
+    /// only. See `crate::solve::bounces`.
     pub bounces: Option<u32>,
     /// Work the solve may leave out where the scene does not need it (all
     /// on; off only to compare or measure).
@@ -62,7 +62,7 @@ impl Default for Settings {
 }
 
 /// The default patch size is the scene's bounding-box diagonal over this.
-pub const PATCHES_PER_DIAMETER: f64 = 10.0;
+pub(super) const PATCHES_PER_DIAMETER: f64 = 10.0;
 
 impl Settings {
     /// The patch size to use for `scene`.

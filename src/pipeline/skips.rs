@@ -95,7 +95,7 @@ impl RowPlan {
     /// The progressive solver tracks the irradiance of every leaf for its
     /// energy balance and shoots in three bands, so surfaces that reflect
     /// nothing get rows there and no solve runs on one band.
-    pub fn new(mesh: &Mesh, settings: &Settings) -> Self {
+    pub(super) fn new(mesh: &Mesh, settings: &Settings) -> Self {
         let skips = &settings.skips;
         let gathering = settings.solver_kind == SolverKind::GaussSeidel;
         let rowless_surface = if skips.zero_reflectance && gathering {
@@ -131,7 +131,7 @@ impl RowPlan {
     }
 
     /// Recomputes the per-patch flags after patches were split.
-    pub fn patches_changed(&mut self, mesh: &Mesh) {
+    pub(super) fn patches_changed(&mut self, mesh: &Mesh) {
         self.rowless_patch = self.rowless_surface.iter().any(|r| *r).then(|| {
             mesh.patches
                 .iter()
@@ -141,7 +141,7 @@ impl RowPlan {
     }
 
     /// The keys that need rows, and those left out.
-    pub fn needing_rows(
+    pub(super) fn needing_rows(
         &self,
         mesh: &Mesh,
         keys: &[ElementKey],

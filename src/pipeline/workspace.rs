@@ -40,7 +40,7 @@ impl<'a> Workspace<'a> {
     /// Checks everything that can be known before the first form factor
     /// (settings, the scene, overlapping surfaces), then cuts the mesh and
     /// splits it to the initial depth.
-    pub fn prepare(
+    pub(super) fn prepare(
         scene: &'a Scene,
         settings: &'a Settings,
         progress: &'a (dyn Fn(Progress) + Sync),
@@ -88,7 +88,7 @@ impl<'a> Workspace<'a> {
 
     /// True while refinement passes may still run: the mesh adapts, and the
     /// passes so far are fewer than allowed.
-    pub fn may_refine(&self) -> bool {
+    pub(super) fn may_refine(&self) -> bool {
         let refine = &self.settings.refine;
         refine.uniform_depth.is_none() && self.stats.passes.len() < refine.max_passes
     }
@@ -96,7 +96,7 @@ impl<'a> Workspace<'a> {
     /// Computes the rows of those `keys` that need one (the plan leaves out
     /// surfaces that reflect nothing) into the store, reporting progress as
     /// refinement pass `pass`. Adds the seconds to the stats.
-    pub fn compute_rows(&mut self, keys: &[ElementKey], pass: usize) {
+    pub(super) fn compute_rows(&mut self, keys: &[ElementKey], pass: usize) {
         let started = Instant::now();
         let (keys, left_out) = self.plan.needing_rows(&self.mesh, keys);
         for k in &left_out {
@@ -130,7 +130,7 @@ impl<'a> Workspace<'a> {
 
     /// Marks the leaves that differ from a neighbour by more than the
     /// refinement tolerance, within the element budget.
-    pub fn mark(&mut self) -> Marks {
+    pub(super) fn mark(&mut self) -> Marks {
         let refine = &self.settings.refine;
         let room = refine.max_elements.saturating_sub(self.mesh.leaf_count());
         let marks = mark_for_split(
@@ -148,7 +148,7 @@ impl<'a> Workspace<'a> {
     /// Splits the marked leaves and whatever the 2:1 balance then needs;
     /// the split leaves' rows are forgotten, and their children start with
     /// their radiosity. Returns the new leaves.
-    pub fn split_marked(&mut self, marks: &Marks) -> Vec<ElementKey> {
+    pub(super) fn split_marked(&mut self, marks: &Marks) -> Vec<ElementKey> {
         let mut fresh: Vec<ElementKey> = Vec::new();
         for &k in &marks.split {
             let children = self.mesh.split(k);
@@ -165,7 +165,7 @@ impl<'a> Workspace<'a> {
     }
 
     /// Splits the leaf `key` and its descendants down to `depth`.
-    pub fn split_to(&mut self, key: ElementKey, depth: u8) {
+    pub(super) fn split_to(&mut self, key: ElementKey, depth: u8) {
         if self.mesh.elements[key].depth >= depth {
             return;
         }
@@ -177,14 +177,14 @@ impl<'a> Workspace<'a> {
     }
 
     /// Brings the stores up to leaf `k` having split into `children`.
-    pub fn split_done(&mut self, k: ElementKey, children: &[ElementKey]) {
+    pub(super) fn split_done(&mut self, k: ElementKey, children: &[ElementKey]) {
         self.form_factors.forget(k);
         self.radiosity.inherit(k, children);
     }
 
     /// Fills in the stats of the finished solve from its final patch
     /// system, last solver report, sweeps over all solves and power totals.
-    pub fn finish_stats(
+    pub(super) fn finish_stats(
         &mut self,
         system: &PatchSystem,
         report: SolveReport,

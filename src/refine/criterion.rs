@@ -5,7 +5,7 @@ use crate::solve::Radiosity;
 
 /// The result of one pass of the criterion.
 #[derive(Clone, Debug, Default)]
-pub struct Marks {
+pub(crate) struct Marks {
     /// Leaves to split, in a deterministic order.
     pub split: Vec<ElementKey>,
     /// The largest neighbour difference found, relative to the reference.
@@ -20,7 +20,7 @@ pub struct Marks {
 /// no smaller than `min_area`, and the largest differences first until the
 /// budget of `room` new leaves is used up.
 #[must_use]
-pub fn mark_for_split(
+pub(crate) fn mark_for_split(
     mesh: &Mesh,
     radiosity: &Radiosity,
     tolerance: f64,

@@ -4,8 +4,8 @@
 mod criterion;
 mod sources;
 
-pub use criterion::{mark_for_split, Marks};
-pub use sources::mark_sources;
+pub(crate) use criterion::{mark_for_split, Marks};
+pub(crate) use sources::mark_sources;
 
 use crate::error::{Error, Result};
 

@@ -10,7 +10,7 @@ use crate::solve::Radiosity;
 /// children would be no smaller than `min_area` and no deeper than
 /// `max_patch_depth` below the initial cut. In patch order.
 #[must_use]
-pub fn mark_sources(
+pub(crate) fn mark_sources(
     mesh: &Mesh,
     form_factors: &FormFactors,
     radiosity: &Radiosity,

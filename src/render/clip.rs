@@ -46,7 +46,7 @@ impl ClipPolygon {
     };
 
     /// The polygon's vertices, in order.
-    pub fn vertices(&self) -> &[DVec3] {
+    pub(super) fn vertices(&self) -> &[DVec3] {
         &self.vertices[..self.len]
     }
 
@@ -68,7 +68,7 @@ pub(crate) struct ClipVolume {
 
 impl ClipVolume {
     /// The clip volume of `view`, with the near plane at depth `near > 0`.
-    pub fn new(view: &View, near: f64) -> Self {
+    pub(super) fn new(view: &View, near: f64) -> Self {
         let side = f64::from(view.width.max(view.height));
         // In normalised device units: |x / (z half_width)| <= guard.
         let guard = 2.0 * GUARD_BAND_PIXELS / side - 1.0;
@@ -91,7 +91,7 @@ impl ClipVolume {
 
     /// True when `p` needs no clipping.
     #[inline]
-    pub fn contains(&self, p: DVec3) -> bool {
+    pub(super) fn contains(&self, p: DVec3) -> bool {
         self.planes.iter().all(|h| h.eval(p) >= 0.0)
     }
 
@@ -100,7 +100,7 @@ impl ClipVolume {
     /// A new vertex is always interpolated from the edge's inside end towards
     /// its outside end, so two triangles sharing an edge get bit-identical cut
     /// points: no crack opens along a clipped shared edge.
-    pub fn clip_triangle(&self, tri: [DVec3; 3]) -> ClipPolygon {
+    pub(super) fn clip_triangle(&self, tri: [DVec3; 3]) -> ClipPolygon {
         let mut current = ClipPolygon::EMPTY;
         for p in tri {
             current.push(p);
@@ -134,7 +134,7 @@ impl ClipVolume {
     }
 
     /// The part of segment `a`-`b` inside the volume (Liang-Barsky), if any.
-    pub fn clip_segment(&self, a: DVec3, b: DVec3) -> Option<(DVec3, DVec3)> {
+    pub(super) fn clip_segment(&self, a: DVec3, b: DVec3) -> Option<(DVec3, DVec3)> {
         let (mut t0, mut t1) = (0.0f64, 1.0f64);
         for plane in &self.planes {
             let (fa, fb) = (plane.eval(a), plane.eval(b));

@@ -45,7 +45,7 @@ impl TriangleShading {
     /// The interpolants of the triangle with view-space vertices `p` and values
     /// `v`, whose visible part has `1 / z` within `inverse_depth_range`. `None`
     /// when the triangle's plane passes through the eye (seen edge-on).
-    pub fn new(
+    pub(super) fn new(
         view: &View,
         p: [DVec3; 3],
         v: [Rgb; 3],
@@ -79,7 +79,7 @@ impl TriangleShading {
 
     /// `1 / z` at sample point `(x, y)`.
     #[inline]
-    pub fn inverse_depth_at(&self, x: f64, y: f64) -> f64 {
+    pub(super) fn inverse_depth_at(&self, x: f64, y: f64) -> f64 {
         let (lo, hi) = self.inverse_depth_range;
         eval(&self.inverse_depth, x, y).clamp(lo, hi)
     }
@@ -87,7 +87,7 @@ impl TriangleShading {
     /// The interpolated value at sample point `(x, y)`, where `1 / z` is
     /// `inverse_depth`.
     #[inline]
-    pub fn value_at(&self, x: f64, y: f64, inverse_depth: f64) -> Rgb {
+    pub(super) fn value_at(&self, x: f64, y: f64, inverse_depth: f64) -> Rgb {
         let mut out = Rgb::ZERO;
         for k in 0..3 {
             let v = eval(&self.numerators[k], x, y) / inverse_depth;

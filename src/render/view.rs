@@ -33,7 +33,7 @@ pub(crate) struct View {
 impl View {
     /// The projection of `camera` onto a `width` x `height` grid, with the grid's
     /// aspect ratio. Fails on a degenerate camera or grid.
-    pub fn new(camera: &Camera, width: u32, height: u32) -> Result<View> {
+    pub(super) fn new(camera: &Camera, width: u32, height: u32) -> Result<View> {
         if width == 0 || height == 0 || width > MAX_GRID_SIDE || height > MAX_GRID_SIDE {
             return Err(Error::Setting {
                 name: "resolution",
@@ -80,14 +80,14 @@ impl View {
 
     /// A world point in view space.
     #[inline]
-    pub fn to_view(&self, p: DVec3) -> DVec3 {
+    pub(super) fn to_view(&self, p: DVec3) -> DVec3 {
         let d = p - self.eye;
         DVec3::new(d.dot(self.right), d.dot(self.up), d.dot(self.forward))
     }
 
     /// A view-space point (with `z > 0`) in pixel space.
     #[inline]
-    pub fn to_pixel(&self, v: DVec3) -> DVec2 {
+    pub(super) fn to_pixel(&self, v: DVec3) -> DVec2 {
         let nx = v.x / (v.z * self.half_width);
         let ny = v.y / (v.z * self.half_height);
         DVec2::new(
@@ -101,7 +101,7 @@ impl View {
     /// `(px, py)` scaled to unit depth. Any linear function of that direction
     /// becomes an affine function of pixel coordinates.
     #[inline]
-    pub fn affine_in_pixels(&self, c: DVec3) -> [f64; 3] {
+    pub(super) fn affine_in_pixels(&self, c: DVec3) -> [f64; 3] {
         let sx = 2.0 * self.half_width / f64::from(self.width);
         let sy = 2.0 * self.half_height / f64::from(self.height);
         [

@@ -7,7 +7,7 @@ use smallvec::SmallVec;
 
 /// Relative out-of-plane deviation above which a quad is refused as non-planar
 /// (the builder splits such quads into two triangles instead).
-pub const PLANARITY_TOLERANCE: f64 = 1e-6;
+pub(super) const PLANARITY_TOLERANCE: f64 = 1e-6;
 
 /// A planar triangle or convex quad. Vertices run counter-clockwise seen from the
 /// front, which is the side the unit `normal` points to. Only the front emits and

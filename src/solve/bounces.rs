@@ -33,7 +33,7 @@ pub const MAX_BOUNCES: u32 = 1000;
 /// reflections of the emitted light (see the module notes), every band at once.
 /// `0` gives the emission alone.
 #[must_use]
-pub fn bounced_radiosity(system: &PatchSystem, reflections: u32) -> Vec<Rgb> {
+pub(crate) fn bounced_radiosity(system: &PatchSystem, reflections: u32) -> Vec<Rgb> {
     let mut b = system.emission.clone();
     let mut next = b.clone();
     for _ in 0..reflections {
@@ -52,7 +52,7 @@ pub fn bounced_radiosity(system: &PatchSystem, reflections: u32) -> Vec<Rgb> {
 /// and error bound measure how far the truncated patch radiosities are from
 /// the full solution (the bound is infinite where the system does not
 /// contract). Fails for `bounces` of 0 or above [`MAX_BOUNCES`].
-pub fn gather_bounces(
+pub(crate) fn gather_bounces(
     mesh: &Mesh,
     form_factors: &FormFactors,
     radiosity: &mut Radiosity,
@@ -88,7 +88,7 @@ pub fn gather_bounces(
 
 /// Checks the number of reflections of a truncated solve; the error names the
 /// setting.
-pub fn check_bounces(bounces: u32) -> Result<()> {
+pub(crate) fn check_bounces(bounces: u32) -> Result<()> {
     if (1..=MAX_BOUNCES).contains(&bounces) {
         return Ok(());
     }

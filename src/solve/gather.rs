@@ -31,7 +31,7 @@ pub fn gather(
 
 /// How [`gather_with`] works.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct GatherOptions<'a> {
+pub(crate) struct GatherOptions<'a> {
     /// Every reflectance, emission and patch radiosity is grey: gather one
     /// band and copy it (the same bits as three bands, for a third of the
     /// arithmetic).
@@ -45,7 +45,7 @@ pub struct GatherOptions<'a> {
 }
 
 /// [`gather`] with `options`.
-pub fn gather_with(
+pub(crate) fn gather_with(
     mesh: &Mesh,
     form_factors: &FormFactors,
     radiosity: &mut Radiosity,

@@ -58,7 +58,7 @@ fn one_row(
             .collect(),
     };
     let mut cube = Hemicube::new(Arc::new(DeltaTable::new(256)), polys.len());
-    let row = cube.row(&sources, eye, normal, angle, 0, method, None);
+    let row = cube.row(&sources, eye, normal, angle, 0, method);
     (0..polys.len() as u32).map(|j| row.get(j)).collect()
 }
 

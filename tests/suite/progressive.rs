@@ -9,7 +9,7 @@ use radiosity::formfactor::FormFactorMethod;
 use radiosity::math::Rgb;
 use radiosity::pipeline::{solve_with_previews, Progress, Stage};
 use radiosity::refine::RefineSettings;
-use radiosity::solve::progressive::{Receivers, StopReason};
+use radiosity::solve::progressive::StopReason;
 use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{scenes, Settings, Solution};
 use std::sync::Mutex;
@@ -588,59 +588,6 @@ fn kept_form_factors_give_the_bits_of_rendering_every_shot() {
             rendered.radiosity().element(b)
         );
     }
-}
-
-#[test]
-fn leaves_shut_in_under_the_blocks_are_the_leaves_gathering_leaves_out() {
-    // The shooter finds shut-in leaves with a fan of rays; gathering finds
-    // them as leaves whose hemi-cube saw no front face (an empty row). On the
-    // same uniform mesh the two must pick the same floor leaves. Shut-in
-    // leaves shoot nothing, and receive only on the part of them that sticks
-    // out from under the block (less than half, as their centre is under it).
-    let scene = scenes::cornell_box();
-    let (gathered, shot) =
-        gathered_and_shot(&scene, &uniform(0.14, 2), ProgressiveSettings::default());
-    let receivers = Receivers::new(shot.mesh());
-    let floor = scene
-        .surfaces
-        .iter()
-        .position(|s| scene.objects[s.object as usize].name == "floor")
-        .unwrap() as u32;
-    let (mut shut, mut checked, mut dark) = (0, 0, 0);
-    let (mut shut_power, mut shut_area, mut power, mut area) = (0.0, 0.0, 0.0, 0.0);
-    for (i, (g, p)) in gathered
-        .mesh()
-        .leaves()
-        .iter()
-        .zip(&receivers.leaves)
-        .enumerate()
-    {
-        let (g, p) = (gathered.leaf(*g), shot.leaf(*p));
-        assert_eq!(g.cell, p.cell);
-        if g.surface != floor {
-            continue;
-        }
-        checked += 1;
-        let exposed = receivers.exposed[i];
-        assert_eq!(g.row.is_exposed(), exposed, "floor leaf {:?}", g.cell);
-        let b = p.radiosity.max_band();
-        power += b * p.area;
-        area += p.area;
-        if !exposed {
-            shut += 1;
-            shut_power += b * p.area;
-            shut_area += p.area;
-            dark += usize::from(b == 0.0);
-        }
-    }
-    assert!(shut > 0 && shut < checked, "{shut} of {checked}");
-    assert!(dark > 0, "leaves wholly under a block receive nothing");
-    assert!(
-        shut_power / shut_area < 0.5 * power / area,
-        "shut-in leaves {} vs the floor's mean {}",
-        shut_power / shut_area,
-        power / area
-    );
 }
 
 #[test]

@@ -6,5 +6,6 @@ mod faces;
 mod raster;
 mod table;
 
-pub use raster::{Coverage, Hemicube, HemicubeStats, ItemCoverage};
+pub(crate) use raster::Coverage;
+pub use raster::{Hemicube, HemicubeStats};
 pub use table::DeltaTable;

@@ -32,10 +32,10 @@ pub struct HemicubeStats {
     /// surface, wholly behind or on its plane, or seen edge-on.
     pub polygons_culled: u64,
     /// Back faces not drawn because front faces of their own closed object
-    /// hide them (see [`crate::formfactor::ClosedObjects`]).
+    /// hide them (see `crate::formfactor::ClosedObjects`).
     pub back_faces_skipped: u64,
     /// Rows given by the exact unoccluded form factor with no hemi-cube at all
-    /// (a convex enclosure; see [`crate::formfactor::is_convex_enclosure`]).
+    /// (a convex enclosure; see `crate::formfactor::is_convex_enclosure`).
     pub exact_rows: u64,
 }
 
@@ -207,10 +207,8 @@ impl Hemicube {
     /// every patch of `sources`, skipping patches on `own_surface` (a planar
     /// surface cannot see itself). `angle` rotates the hemi-cube about the normal,
     /// which decorrelates the aliasing of neighbouring receivers. `method` says
-    /// how pixels become form factors. With `emitter_rays` (the occluders and a
-    /// seed), the hybrid method ray casts the visibility of emitters that the
-    /// item buffer saw only in part.
-    #[allow(clippy::too_many_arguments)]
+    /// how pixels become form factors. Emitters are treated as every other
+    /// patch: their visibility is the item buffer's.
     pub fn row(
         &mut self,
         sources: &Sources,
@@ -219,28 +217,21 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
         method: FormFactorMethod,
-        emitter_rays: Option<EmitterVisibility<'_>>,
     ) -> Row {
-        self.row_hiding(
-            sources,
-            None,
-            eye,
-            normal,
-            angle,
-            own_surface,
-            method,
-            emitter_rays,
-        )
+        self.row_hiding(sources, None, eye, normal, angle, own_surface, method, None)
     }
 
     /// [`Hemicube::row`], not drawing the back faces of the surfaces `s`
     /// of the sources for which `hidden_back[s]` is true: back faces that
     /// front faces of their own object hide from `eye`, as
-    /// [`crate::formfactor::ClosedObjects::hidden_from`] finds them. The row
+    /// `crate::formfactor::ClosedObjects::hidden_from` finds them. The row
     /// is then the same but where a back face would have won a silhouette
     /// pixel from the front face at equal depth.
+    /// With `emitter_rays` (the occluders and a seed), the hybrid method finds
+    /// the visibility of emitters that the item buffer saw only in part from
+    /// the occluders themselves.
     #[allow(clippy::too_many_arguments)]
-    pub fn row_hiding(
+    pub(crate) fn row_hiding(
         &mut self,
         sources: &Sources,
         hidden_back: Option<&[bool]>,

@@ -208,7 +208,10 @@ impl Solver for Shooting<'_> {
 impl<'p> Shooting<'p> {
     /// Starts shooting on the initial mesh of `ws`, handing previews to
     /// `preview` if given.
-    pub fn start(ws: &mut Workspace<'_>, preview: Option<PreviewCallback<'p>>) -> Result<Self> {
+    pub(super) fn start(
+        ws: &mut Workspace<'_>,
+        preview: Option<PreviewCallback<'p>>,
+    ) -> Result<Self> {
         let settings = ws.settings;
         let ps = &settings.progressive;
         let mut state = ShootingState::new(&ws.mesh);

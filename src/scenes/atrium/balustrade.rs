@@ -12,13 +12,13 @@ use crate::error::Result;
 use glam::DVec3;
 
 /// Height of the balustrade's plinth (m).
-pub const PLINTH: f64 = 0.15;
+pub(super) const PLINTH: f64 = 0.15;
 /// Height of the top rail (m).
-pub const RAIL: f64 = 0.14;
+pub(super) const RAIL: f64 = 0.14;
 /// Distance between baluster axes, at most (m).
-pub const BALUSTER_PITCH: f64 = 0.3;
+pub(super) const BALUSTER_PITCH: f64 = 0.3;
 /// Largest radius of a baluster (m).
-pub const BALUSTER_RADIUS: f64 = 0.075;
+pub(super) const BALUSTER_RADIUS: f64 = 0.075;
 
 /// Adds `balustrade_K` per side and gallery (south first, lower first).
 pub(super) fn add_balustrades<S: Sink>(g: &mut Generator<S>) -> Result<()> {

@@ -8,9 +8,9 @@ use crate::scene::Camera;
 use glam::DVec3;
 
 /// Eye height above the court floor (m).
-pub const EYE_HEIGHT: f64 = 1.7;
+pub(super) const EYE_HEIGHT: f64 = 1.7;
 /// Vertical field of view of the default camera (degrees).
-pub const FIELD_OF_VIEW: f64 = 60.0;
+pub(super) const FIELD_OF_VIEW: f64 = 60.0;
 
 /// The default camera of the atrium `plan`.
 pub(super) fn default_camera(plan: &Plan) -> Camera {

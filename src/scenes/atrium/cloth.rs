@@ -14,13 +14,13 @@ use crate::error::Result;
 use glam::DVec3;
 
 /// Gap between a banner's rod and the wall behind it (m).
-pub const BANNER_GAP: f64 = 0.12;
+pub(super) const BANNER_GAP: f64 = 0.12;
 /// Width of the banners in front of the gallery columns (m).
-pub const COLUMN_BANNER_WIDTH: f64 = 1.1;
+pub(super) const COLUMN_BANNER_WIDTH: f64 = 1.1;
 /// Width of the banners on the end walls (m).
-pub const WALL_BANNER_WIDTH: f64 = 2.2;
+pub(super) const WALL_BANNER_WIDTH: f64 = 2.2;
 /// Length of the banners on the end walls (m).
-pub const WALL_BANNER_LENGTH: f64 = 6.5;
+pub(super) const WALL_BANNER_LENGTH: f64 = 6.5;
 
 /// A banner's placement and shape.
 #[derive(Clone, Copy, Debug)]

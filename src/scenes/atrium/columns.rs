@@ -11,13 +11,13 @@ use crate::error::Result;
 use glam::DVec3;
 
 /// Height of the ground columns' square plinths (m).
-pub const PLINTH_HEIGHT: f64 = 0.3;
+pub(super) const PLINTH_HEIGHT: f64 = 0.3;
 /// Height of every column's abacus (m).
-pub const ABACUS_HEIGHT: f64 = 0.2;
+pub(super) const ABACUS_HEIGHT: f64 = 0.2;
 /// Shaft radius at the foot of a ground column (m).
-pub const GROUND_SHAFT_RADIUS: f64 = 0.24;
+pub(super) const GROUND_SHAFT_RADIUS: f64 = 0.24;
 /// Shaft radius at the foot of a gallery column (m).
-pub const GALLERY_SHAFT_RADIUS: f64 = 0.2;
+pub(super) const GALLERY_SHAFT_RADIUS: f64 = 0.2;
 /// The shaft's top radius over its foot radius.
 const TAPER: f64 = 0.85;
 /// Radius of the base moulding's half-round (torus), per metre of shaft radius.

@@ -14,9 +14,9 @@ use glam::DVec3;
 
 /// Distance of the benches and planters in front of the arcades from the
 /// arcade's court face (m).
-pub const ARCADE_CLEARANCE: f64 = 1.4;
+pub(super) const ARCADE_CLEARANCE: f64 = 1.4;
 /// Distance of the ambulatory benches' axis from the outer wall (m).
-pub const WALL_BENCH_DEPTH: f64 = 0.5;
+pub(super) const WALL_BENCH_DEPTH: f64 = 0.5;
 
 /// Adds `fountain`, then per bay the court's middle piece (`table_K` or
 /// `planter_K`; long tables come with `bench_K`s), the pieces in front of

@@ -12,13 +12,13 @@ use glam::DVec3;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Radius of a round table's top (m).
-pub const ROUND_TABLE_RADIUS: f64 = 0.45;
+pub(super) const ROUND_TABLE_RADIUS: f64 = 0.45;
 /// Distance of the stools from a round table's axis (m).
-pub const STOOL_DISTANCE: f64 = 0.78;
+pub(super) const STOOL_DISTANCE: f64 = 0.78;
 /// Outer radius of a planter at its rim (m).
-pub const PLANTER_RADIUS: f64 = 0.45;
+pub(super) const PLANTER_RADIUS: f64 = 0.45;
 /// Outer radius of the fountain's basin (m).
-pub const FOUNTAIN_RADIUS: f64 = 1.6;
+pub(super) const FOUNTAIN_RADIUS: f64 = 1.6;
 
 /// A round table with four stools around it.
 pub(super) fn round_table<S: Sink>(g: &mut Generator<S>, at: DVec3, wood: u32) -> Result<()> {

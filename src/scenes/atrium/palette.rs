@@ -43,7 +43,7 @@ pub(super) struct Palette {
 
 impl Palette {
     /// Registers every material with `sink`.
-    pub fn register<S: Sink>(sink: &mut S) -> Result<Palette> {
+    pub(super) fn register<S: Sink>(sink: &mut S) -> Result<Palette> {
         let mut diffuse =
             |name: &str, r: f64, g: f64, b: f64| sink.material(name, Rgb::new(r, g, b), Rgb::ZERO);
         let stone = diffuse("stone", 0.62, 0.58, 0.5)?;

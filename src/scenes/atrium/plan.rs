@@ -46,55 +46,55 @@ pub(super) struct Plan {
 
 impl Plan {
     /// Length of the building along x (m).
-    pub fn length(&self) -> f64 {
+    pub(super) fn length(&self) -> f64 {
         f64::from(self.bays) * BAY
     }
 
     /// Width of the building along z (m).
-    pub fn width(&self) -> f64 {
+    pub(super) fn width(&self) -> f64 {
         2.0 * self.court_face() + COURT
     }
 
     /// Distance of the arcade's axis (the column axes) from the outer wall.
-    pub fn arcade_axis(&self) -> f64 {
+    pub(super) fn arcade_axis(&self) -> f64 {
         AMBULATORY + PIER_HALF
     }
 
     /// Distance of the court-facing plane of arcade, slabs and balustrades
     /// from the outer wall.
-    pub fn court_face(&self) -> f64 {
+    pub(super) fn court_face(&self) -> f64 {
         AMBULATORY + 2.0 * PIER_HALF
     }
 
     /// Top of the arcade wall and ambulatory ceiling: the square around each
     /// arch is a bay wide and half a bay tall.
-    pub fn arcade_top(&self) -> f64 {
+    pub(super) fn arcade_top(&self) -> f64 {
         SPRING + BAY / 2.0
     }
 
     /// Floor level of gallery `k` (0 is the lowest).
-    pub fn gallery_floor(&self, k: usize) -> f64 {
+    pub(super) fn gallery_floor(&self, k: usize) -> f64 {
         self.arcade_top() + SLAB + k as f64 * (STOREY + SLAB)
     }
 
     /// Ceiling level of gallery `k`.
-    pub fn gallery_ceiling(&self, k: usize) -> f64 {
+    pub(super) fn gallery_ceiling(&self, k: usize) -> f64 {
         self.gallery_floor(k) + STOREY
     }
 
     /// Top of the roof, the rim of the opening to the sky.
-    pub fn roof(&self) -> f64 {
+    pub(super) fn roof(&self) -> f64 {
         self.gallery_ceiling(GALLERIES - 1) + SLAB
     }
 
     /// The x of column axis `i`, 1 to `bays - 1`.
-    pub fn column_x(&self, i: u32) -> f64 {
+    pub(super) fn column_x(&self, i: u32) -> f64 {
         f64::from(i) * BAY
     }
 
     /// The x intervals between the pedestals of a storey (and the end walls),
     /// where the balustrade runs.
-    pub fn between_pedestals(&self) -> Vec<(f64, f64)> {
+    pub(super) fn between_pedestals(&self) -> Vec<(f64, f64)> {
         (0..self.bays)
             .map(|i| {
                 let start = if i == 0 {
@@ -124,10 +124,10 @@ pub(super) enum Side {
 
 impl Side {
     /// Both sides, south first.
-    pub const BOTH: [Side; 2] = [Side::South, Side::North];
+    pub(super) const BOTH: [Side; 2] = [Side::South, Side::North];
 
     /// The side's name in object names.
-    pub fn name(self) -> &'static str {
+    pub(super) fn name(self) -> &'static str {
         match self {
             Side::South => "south",
             Side::North => "north",
@@ -146,10 +146,10 @@ pub(super) struct Frame {
 
 impl Frame {
     /// World coordinates as they are (d is z).
-    pub const WORLD: Frame = Frame { mirror_width: None };
+    pub(super) const WORLD: Frame = Frame { mirror_width: None };
 
     /// The frame of `side` of the building `plan`.
-    pub fn of(side: Side, plan: &Plan) -> Frame {
+    pub(super) fn of(side: Side, plan: &Plan) -> Frame {
         match side {
             Side::South => Frame::WORLD,
             Side::North => Frame {
@@ -159,7 +159,7 @@ impl Frame {
     }
 
     /// The world point at side coordinates `(x, y, d)`.
-    pub fn point(self, x: f64, y: f64, d: f64) -> DVec3 {
+    pub(super) fn point(self, x: f64, y: f64, d: f64) -> DVec3 {
         match self.mirror_width {
             None => DVec3::new(x, y, d),
             Some(w) => DVec3::new(x, y, w - d),
@@ -168,7 +168,7 @@ impl Frame {
 
     /// World vertices of a polygon given in side coordinates (x, y, d as the
     /// vector's x, y, z), counter-clockwise around its front in both.
-    pub fn polygon(self, local: &[DVec3]) -> Vec<DVec3> {
+    pub(super) fn polygon(self, local: &[DVec3]) -> Vec<DVec3> {
         let mut world: Vec<DVec3> = local.iter().map(|p| self.point(p.x, p.y, p.z)).collect();
         if self.mirror_width.is_some() {
             world.reverse();

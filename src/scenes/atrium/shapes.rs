@@ -28,7 +28,7 @@ pub(super) struct Faces {
 
 impl Faces {
     /// Every face.
-    pub const ALL: Faces = Faces {
+    pub(super) const ALL: Faces = Faces {
         neg_x: true,
         pos_x: true,
         neg_y: true,
@@ -37,25 +37,25 @@ impl Faces {
         pos_z: true,
     };
     /// All but the bottom: a block standing on something.
-    pub const STANDING: Faces = Faces {
+    pub(super) const STANDING: Faces = Faces {
         neg_y: false,
         ..Faces::ALL
     };
     /// The four sides only: a post between a floor and what it carries.
-    pub const SIDES: Faces = Faces {
+    pub(super) const SIDES: Faces = Faces {
         neg_y: false,
         pos_y: false,
         ..Faces::ALL
     };
     /// All but the top: a block hanging under something.
-    pub const HANGING: Faces = Faces {
+    pub(super) const HANGING: Faces = Faces {
         pos_y: false,
         ..Faces::ALL
     };
 
     /// How many faces are made.
     #[cfg(test)]
-    pub fn count(self) -> usize {
+    pub(super) fn count(self) -> usize {
         [
             self.neg_x, self.pos_x, self.neg_y, self.pos_y, self.neg_z, self.pos_z,
         ]
@@ -154,7 +154,7 @@ pub(super) struct Profile {
 
 impl Profile {
     /// A profile starting at `(radius, height)`.
-    pub fn start(radius: f64, height: f64) -> Profile {
+    pub(super) fn start(radius: f64, height: f64) -> Profile {
         Profile {
             points: vec![(radius, height)],
             materials: Vec::new(),
@@ -162,14 +162,14 @@ impl Profile {
     }
 
     /// Continues with a straight segment to `(radius, height)`.
-    pub fn to(&mut self, radius: f64, height: f64, material: u32) -> &mut Profile {
+    pub(super) fn to(&mut self, radius: f64, height: f64, material: u32) -> &mut Profile {
         self.points.push((radius, height));
         self.materials.push(material);
         self
     }
 
     /// Continues along `curve(t)` for t in (0, 1] in `segments` straight pieces.
-    pub fn curve(
+    pub(super) fn curve(
         &mut self,
         segments: usize,
         material: u32,
@@ -184,7 +184,7 @@ impl Profile {
 
     /// Triangles the profile makes when revolved in `around` steps.
     #[cfg(test)]
-    pub fn triangles(&self, around: usize) -> usize {
+    pub(super) fn triangles(&self, around: usize) -> usize {
         self.points
             .windows(2)
             .map(|w| if w[0].0 > 0.0 && w[1].0 > 0.0 { 2 } else { 1 } * around)

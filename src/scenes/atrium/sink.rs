@@ -69,7 +69,7 @@ pub(super) struct Names {
 
 impl Names {
     /// The next name of `kind`.
-    pub fn next(&mut self, kind: &'static str) -> String {
+    pub(super) fn next(&mut self, kind: &'static str) -> String {
         let slot = match self.counts.iter().position(|(k, _)| *k == kind) {
             Some(i) => i,
             None => {

@@ -16,7 +16,7 @@ pub const MIN_DENSITY: f64 = 0.5;
 /// Highest tessellation density (segments per metre).
 pub const MAX_DENSITY: f64 = 100.0;
 /// Bays of the smallest target's layout.
-pub const BAYS_AT_MIN: u32 = 5;
+pub(super) const BAYS_AT_MIN: u32 = 5;
 /// From this target up the balustrades have turned balusters; below it they
 /// are solid parapets (a few hundred balusters would not fit the budget).
 pub const BALUSTERS_FROM: usize = 60_000;

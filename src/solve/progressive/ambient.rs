@@ -13,7 +13,7 @@ use crate::mesh::Mesh;
 /// The ambient radiosity per band for the patches' `unshot` radiosities. A band
 /// with no absorption anywhere has no finite ambient estimate and gets 0.
 #[must_use]
-pub fn ambient_term(mesh: &Mesh, unshot: &[Rgb]) -> Rgb {
+pub(crate) fn ambient_term(mesh: &Mesh, unshot: &[Rgb]) -> Rgb {
     let mut unshot_power = Rgb::ZERO;
     let mut area = 0.0;
     let mut reflecting = Rgb::ZERO;

@@ -19,7 +19,7 @@ use crate::formfactor::FormFactors;
 use crate::mesh::{ElementKey, Mesh};
 
 /// Bytes one cached entry takes.
-pub const ENTRY_BYTES: usize = std::mem::size_of::<(ElementKey, f64)>();
+pub(super) const ENTRY_BYTES: usize = std::mem::size_of::<(ElementKey, f64)>();
 
 #[derive(Clone, Debug)]
 struct Cached {
@@ -31,7 +31,7 @@ struct Cached {
 
 /// Per patch, the form factors from every receiving leaf to it.
 #[derive(Clone, Debug, Default)]
-pub struct ShotCache {
+pub(crate) struct ShotCache {
     patches: Vec<Option<Cached>>,
     entries: usize,
     budget_entries: usize,
@@ -40,7 +40,7 @@ pub struct ShotCache {
 impl ShotCache {
     /// An empty cache for `patches` patches holding at most `budget_bytes`.
     #[must_use]
-    pub fn new(patches: usize, budget_bytes: usize) -> Self {
+    pub(crate) fn new(patches: usize, budget_bytes: usize) -> Self {
         ShotCache {
             patches: vec![None; patches],
             entries: 0,
@@ -51,7 +51,7 @@ impl ShotCache {
     /// The factors of `patch`, if kept from a shot at a cell depth of at least
     /// `depth`.
     #[must_use]
-    pub fn get(&self, patch: u32, depth: u8) -> Option<&[(ElementKey, f64)]> {
+    pub(crate) fn get(&self, patch: u32, depth: u8) -> Option<&[(ElementKey, f64)]> {
         match &self.patches[patch as usize] {
             Some(c) if c.depth >= depth => Some(&c.factors),
             _ => None,
@@ -61,7 +61,7 @@ impl ShotCache {
     /// Keeps `factors` of `patch` (rendered at cell depth `depth`), replacing
     /// what it held for the patch, if they fit the budget; hands them back
     /// when they do not.
-    pub fn store(
+    pub(crate) fn store(
         &mut self,
         patch: u32,
         depth: u8,
@@ -82,7 +82,7 @@ impl ShotCache {
     /// budget; returns whether they did. From then on every patch is served
     /// at any depth, and a shot of patch `j` delivers to each leaf `e` by its
     /// row entry `F_ej`, the factor the Gauss-Seidel path gathers with.
-    pub fn gather(
+    pub(crate) fn gather(
         &mut self,
         patches: usize,
         form_factors: &FormFactors,
@@ -114,7 +114,7 @@ impl ShotCache {
     /// Brings the cache up to a refinement pass: entries of elements that are
     /// no longer leaves go, and each of the new leaves `fresh` (with its
     /// gathering row in `form_factors`) joins every cached patch its row sees.
-    pub fn refine(&mut self, mesh: &Mesh, form_factors: &FormFactors, fresh: &[ElementKey]) {
+    pub(crate) fn refine(&mut self, mesh: &Mesh, form_factors: &FormFactors, fresh: &[ElementKey]) {
         let mut entries = 0;
         for c in self.patches.iter_mut().flatten() {
             c.factors
@@ -137,13 +137,14 @@ impl ShotCache {
 
     /// Entries held, over all patches.
     #[must_use]
-    pub fn entries(&self) -> usize {
+    #[cfg(test)]
+    pub(crate) fn entries(&self) -> usize {
         self.entries
     }
 
     /// Bytes the entries take.
     #[must_use]
-    pub fn bytes(&self) -> usize {
+    pub(crate) fn bytes(&self) -> usize {
         self.entries * ENTRY_BYTES
     }
 }

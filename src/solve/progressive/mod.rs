@@ -22,16 +22,16 @@
 //!
 //! - [`settings`](ProgressiveSettings): [`SolverKind`], stopping rules, shooter
 //!   cells, refinement pace;
-//! - [`ShootingState`]: radiosity, unshot and shot radiosity per patch,
+//! - `ShootingState`: radiosity, unshot and shot radiosity per patch,
 //!   irradiance per leaf;
-//! - [`Receivers`]: the leaves as an item-buffer polygon list;
-//! - [`Shooter`]: the form factors of one shot (see its module for the hybrid
+//! - `Receivers`: the leaves as an item-buffer polygon list;
+//! - `Shooter`: the form factors of one shot (see its module for the hybrid
 //!   and classic forms, and how reciprocals above 1 are handled);
-//! - [`ShotCache`]: each patch's form factors, kept for its next shots;
-//! - [`visible_fractions`]: the visible part of each leaf from the item buffer;
-//! - [`ambient_term`]: the display-only ambient term;
-//! - [`Stopping`]: unshot fraction, shot count, time budget;
-//! - [`adopt`]: new elements of a refinement pass gather what has been shot;
+//! - `ShotCache`: each patch's form factors, kept for its next shots;
+//! - `visible_fractions`: the visible part of each leaf from the item buffer;
+//! - `ambient_term`: the display-only ambient term;
+//! - `Stopping`: unshot fraction, shot count, time budget;
+//! - `adopt`: new elements of a refinement pass gather what has been shot;
 //! - [`ProgressiveStats`]: the figures.
 //!
 //! The driver that runs these over a scene is `pipeline::progressive`.
@@ -48,13 +48,14 @@ mod state;
 mod stopping;
 mod visibility;
 
-pub use ambient::ambient_term;
-pub use cache::{ShotCache, ENTRY_BYTES};
-pub use newborn::adopt;
-pub use receivers::Receivers;
+pub(crate) use ambient::ambient_term;
+pub(crate) use cache::ShotCache;
+pub(crate) use newborn::adopt;
+pub(crate) use receivers::Receivers;
 pub use report::{HistoryPoint, ProgressiveStats, ShootingPass};
 pub use settings::{ProgressiveSettings, SolverKind, MAX_SHOOTER_DEPTH};
-pub use shoot::{CellCounts, Shooter, ShotFactors, MAX_SHOOTER_SPLITS};
-pub use state::{Delivery, ShootingState};
-pub use stopping::{StopReason, Stopping};
-pub use visibility::{partly_visible, visible_fractions, ShooterEye, RESOLVED_PIXELS};
+pub(crate) use shoot::Shooter;
+pub use shoot::MAX_SHOOTER_SPLITS;
+pub(crate) use state::ShootingState;
+pub use stopping::StopReason;
+pub(crate) use stopping::Stopping;

@@ -13,7 +13,7 @@ use crate::solve::Radiosity;
 /// has shot, then re-sums the touched patches. Returns the change in unshot
 /// power per band (what the better estimate added to or took from the
 /// patches' unshot light).
-pub fn adopt(
+pub(crate) fn adopt(
     mesh: &Mesh,
     radiosity: &mut Radiosity,
     state: &mut ShootingState,

@@ -2,18 +2,16 @@
 //! for the shooter's item buffer (id = position in that order).
 
 use crate::formfactor::{receiving_point, Occluders, Sources};
-use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 use rayon::prelude::*;
-use slotmap::SecondaryMap;
 use std::ops::Range;
 use std::sync::Arc;
 
 /// The leaf elements of a mesh as receivers. Rebuilt whenever the mesh is
 /// refined.
 #[derive(Clone, Debug)]
-pub struct Receivers {
+pub(crate) struct Receivers {
     /// Leaf keys, patch by patch (the order of [`Mesh::leaves`]).
     pub leaves: Vec<ElementKey>,
     /// Leaf polygons; polygon `i` is leaf `i`.
@@ -23,8 +21,6 @@ pub struct Receivers {
     /// The leaves of each patch: a range of leaf indices (leaves are stored
     /// patch by patch).
     pub patch_leaves: Vec<Range<u32>>,
-    /// Position of each leaf in `leaves`.
-    pub index: SecondaryMap<ElementKey, u32>,
     /// Where each leaf receives: its centroid lifted off the surface by a
     /// distance relative to its own size (as its gathering hemi-cube would be).
     pub eyes: Vec<DVec3>,
@@ -32,8 +28,6 @@ pub struct Receivers {
     pub normals: Vec<DVec3>,
     /// Area of each leaf.
     pub areas: Vec<f64>,
-    /// Reflectance of each leaf.
-    pub reflectances: Vec<Rgb>,
     /// Whether each leaf is exposed: whether its receiving point sees anything
     /// but back faces (see `Occluders::is_shut_in`). A leaf that is not, such
     /// as one under a box standing on it, does not shoot, as its empty row
@@ -48,19 +42,16 @@ pub struct Receivers {
 impl Receivers {
     /// The current leaves of `mesh`.
     #[must_use]
-    pub fn new(mesh: &Mesh) -> Self {
+    pub(crate) fn new(mesh: &Mesh) -> Self {
         let leaves = mesh.leaves();
         let sources = Sources::from_elements(mesh, &leaves);
-        let mut index = SecondaryMap::new();
         let mut eyes = Vec::with_capacity(leaves.len());
         let mut normals = Vec::with_capacity(leaves.len());
         let mut areas = Vec::with_capacity(leaves.len());
-        let mut reflectances = Vec::with_capacity(leaves.len());
         let mut patch_leaves = vec![0..0; mesh.patches.len()];
         for (i, &k) in leaves.iter().enumerate() {
             let e = &mesh.elements[k];
             let n = mesh.surfaces[e.surface as usize].normal;
-            index.insert(k, i as u32);
             let range = &mut patch_leaves[e.patch as usize];
             if range.start == range.end {
                 *range = i as u32..i as u32;
@@ -69,7 +60,6 @@ impl Receivers {
             eyes.push(receiving_point(e.centroid, n, e.area));
             normals.push(n);
             areas.push(e.area);
-            reflectances.push(mesh.surfaces[e.surface as usize].reflectance);
         }
         let patch_sources = Sources::from_mesh(mesh);
         let occluders = Occluders::new(&patch_sources);
@@ -87,11 +77,9 @@ impl Receivers {
             sources,
             patch_sources,
             patch_leaves,
-            index,
             eyes,
             normals,
             areas,
-            reflectances,
             exposed,
             occluders: Arc::new(occluders),
         }
@@ -99,13 +87,85 @@ impl Receivers {
 
     /// Number of leaves.
     #[must_use]
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.leaves.len()
     }
+}
 
-    /// True when there are no leaves.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.leaves.is_empty()
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::refine::RefineSettings;
+    use crate::scenes;
+    use crate::solve::SolverKind;
+    use crate::Settings;
+
+    #[test]
+    fn leaves_shut_in_under_the_blocks_are_the_leaves_gathering_leaves_out() {
+        // The shooter finds shut-in leaves with a fan of rays; gathering finds
+        // them as leaves whose hemi-cube saw no front face (an empty row). On the
+        // same uniform mesh the two must pick the same floor leaves. Shut-in
+        // leaves shoot nothing, and receive only on the part of them that sticks
+        // out from under the block (less than half, as their centre is under it).
+        let scene = scenes::cornell_box();
+        let settings = Settings {
+            patch_size: Some(0.14),
+            refine: RefineSettings {
+                uniform_depth: Some(2),
+                ..RefineSettings::default()
+            },
+            ..Settings::default()
+        };
+        let gathered = crate::solve(&scene, &settings, &|_| {}).unwrap();
+        let shot = crate::solve(
+            &scene,
+            &Settings {
+                solver_kind: SolverKind::Progressive,
+                ..settings
+            },
+            &|_| {},
+        )
+        .unwrap();
+        let receivers = Receivers::new(shot.mesh());
+        let floor = scene
+            .surfaces
+            .iter()
+            .position(|s| scene.objects[s.object as usize].name == "floor")
+            .unwrap() as u32;
+        let (mut shut, mut checked, mut dark) = (0, 0, 0);
+        let (mut shut_power, mut shut_area, mut power, mut area) = (0.0, 0.0, 0.0, 0.0);
+        for (i, (g, p)) in gathered
+            .mesh()
+            .leaves()
+            .iter()
+            .zip(&receivers.leaves)
+            .enumerate()
+        {
+            let (g, p) = (gathered.leaf(*g), shot.leaf(*p));
+            assert_eq!(g.cell, p.cell);
+            if g.surface != floor {
+                continue;
+            }
+            checked += 1;
+            let exposed = receivers.exposed[i];
+            assert_eq!(g.row.is_exposed(), exposed, "floor leaf {:?}", g.cell);
+            let b = p.radiosity.max_band();
+            power += b * p.area;
+            area += p.area;
+            if !exposed {
+                shut += 1;
+                shut_power += b * p.area;
+                shut_area += p.area;
+                dark += usize::from(b == 0.0);
+            }
+        }
+        assert!(shut > 0 && shut < checked, "{shut} of {checked}");
+        assert!(dark > 0, "leaves wholly under a block receive nothing");
+        assert!(
+            shut_power / shut_area < 0.5 * power / area,
+            "shut-in leaves {} vs the floor's mean {}",
+            shut_power / shut_area,
+            power / area
+        );
     }
 }

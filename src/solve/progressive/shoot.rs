@@ -55,11 +55,11 @@ pub const MAX_SHOOTER_SPLITS: u8 = 3;
 
 /// A cell's eye counts as shut in when back faces fill more than this part of
 /// its view (by form factor).
-pub const HIDDEN_EYE: f64 = 0.5;
+pub(super) const HIDDEN_EYE: f64 = 0.5;
 
 /// The form factors of one shot and what computing them took.
 #[derive(Clone, Debug, Default)]
-pub struct ShotFactors {
+pub(crate) struct ShotFactors {
     /// `(leaf index, F_ei)`: the form factor from each receiving leaf to the
     /// shooting patch, in increasing leaf order, zeros left out.
     pub factors: Vec<(u32, f64)>,
@@ -71,7 +71,7 @@ pub struct ShotFactors {
 
 /// What the cells of a shot did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct CellCounts {
+pub(crate) struct CellCounts {
     /// Classic shooter cells split because a reciprocal form factor exceeded 1.
     pub splits: usize,
     /// Classic reciprocal form factors still above 1 at the lattice's finest
@@ -100,7 +100,7 @@ impl std::ops::AddAssign for CellCounts {
 
 /// Renders shots. Holds one hemi-cube per worker thread and reusable buffers.
 #[derive(Debug)]
-pub struct Shooter {
+pub(crate) struct Shooter {
     cubes: Vec<Hemicube>,
     seed: u64,
     method: FormFactorMethod,
@@ -116,7 +116,7 @@ impl Shooter {
     /// pixels into form factors by `method`; `skip_empty_faces` as
     /// [`Hemicube::set_skip_empty_faces`].
     #[must_use]
-    pub fn new(
+    pub(crate) fn new(
         table: Arc<DeltaTable>,
         seed: u64,
         method: FormFactorMethod,
@@ -141,14 +141,14 @@ impl Shooter {
 
     /// Forgets the shooter cells found so far: they depend on which leaves are
     /// exposed, so they must be found again once the mesh is refined.
-    pub fn forget_cells(&mut self) {
+    pub(crate) fn forget_cells(&mut self) {
         self.cells.clear();
     }
 
     /// The form factors from every leaf of `receivers` to patch `patch`,
     /// shooting from its cells `depth` levels below it. Deterministic: the
     /// same at any thread count.
-    pub fn factors(
+    pub(crate) fn factors(
         &mut self,
         mesh: &Mesh,
         receivers: &Receivers,

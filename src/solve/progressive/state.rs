@@ -9,7 +9,7 @@ use slotmap::SecondaryMap;
 
 /// What one shot delivered.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Delivery {
+pub(crate) struct Delivery {
     /// `sum_e F_ei s A_e / A_i` before any scaling back (1 in a closed scene).
     pub implied_row_sum: f64,
     /// True when the reflected part of the implied row sum exceeded 1 in
@@ -23,7 +23,7 @@ pub struct Delivery {
 /// irradiance; a patch's radiosity is the area mean of its leaves; and
 /// `radiosity = shot + unshot` for every patch.
 #[derive(Clone, Debug)]
-pub struct ShootingState {
+pub(crate) struct ShootingState {
     /// Radiosity of each patch.
     pub radiosity: Vec<Rgb>,
     /// Radiosity each patch has received (or emits) but not yet shot.
@@ -42,7 +42,7 @@ pub struct ShootingState {
 impl ShootingState {
     /// The state before the first shot: every patch holds its emission, unshot.
     #[must_use]
-    pub fn new(mesh: &Mesh) -> Self {
+    pub(crate) fn new(mesh: &Mesh) -> Self {
         let emission: Vec<Rgb> = (0..mesh.patches.len() as u32)
             .map(|p| mesh.patch_emission(p))
             .collect();
@@ -73,7 +73,7 @@ impl ShootingState {
     /// exposed part: that part's radiosity is the average times the patch's
     /// area over the exposed area, the open scale. Gathering likewise lets
     /// the exposed elements alone stand for the patch.
-    pub fn expose(&mut self, mesh: &Mesh, receivers: &Receivers) {
+    pub(crate) fn expose(&mut self, mesh: &Mesh, receivers: &Receivers) {
         for (p, range) in receivers.patch_leaves.iter().enumerate() {
             let exposed: f64 = range
                 .clone()
@@ -99,7 +99,7 @@ impl ShootingState {
     /// where the reflected part `sum_e rho_e F_ei s A_e / A_i` would exceed 1
     /// in some band, so that the shot would create unshot power, is the shot
     /// scaled back, and said so.
-    pub fn deliver(
+    pub(crate) fn deliver(
         &mut self,
         mesh: &Mesh,
         radiosity: &mut Radiosity,
@@ -131,7 +131,7 @@ impl ShootingState {
 
     /// Emitted power summed over patches and bands.
     #[must_use]
-    pub fn emitted_power(&self) -> f64 {
+    pub(crate) fn emitted_power(&self) -> f64 {
         self.emitted_power
     }
 
@@ -139,7 +139,7 @@ impl ShootingState {
     /// that a negative correction from refinement is shot too); the lowest
     /// index among equals. `None` when nothing is left to shoot.
     #[must_use]
-    pub fn choose_shooter(&self) -> Option<u32> {
+    pub(crate) fn choose_shooter(&self) -> Option<u32> {
         let mut best: Option<(u32, f64)> = None;
         for p in 0..self.unshot.len() {
             let power = self.unshot_power_of(p as u32);
@@ -156,13 +156,13 @@ impl ShootingState {
 
     /// Unshot power of patch `p`, bands summed (magnitudes).
     #[must_use]
-    pub fn unshot_power_of(&self, p: u32) -> f64 {
+    pub(crate) fn unshot_power_of(&self, p: u32) -> f64 {
         self.unshot[p as usize].abs().0.iter().sum::<f64>() * self.areas[p as usize]
     }
 
     /// Unshot power per band, magnitudes summed over patches.
     #[must_use]
-    pub fn unshot_power(&self) -> Rgb {
+    pub(crate) fn unshot_power(&self) -> Rgb {
         let mut sum = Rgb::ZERO;
         for (u, a) in self.unshot.iter().zip(&self.areas) {
             sum += u.abs() * *a;
@@ -172,7 +172,7 @@ impl ShootingState {
 
     /// Unshot power over emitted power, bands summed (0 when nothing emits).
     #[must_use]
-    pub fn unshot_fraction(&self) -> f64 {
+    pub(crate) fn unshot_fraction(&self) -> f64 {
         if self.emitted_power > 0.0 {
             self.unshot_power().0.iter().sum::<f64>() / self.emitted_power
         } else {
@@ -183,7 +183,7 @@ impl ShootingState {
     /// The largest unshot radiosity of any patch in any band: the residual
     /// `|E + rho F B - B|` of the system being solved.
     #[must_use]
-    pub fn residual(&self) -> f64 {
+    pub(crate) fn residual(&self) -> f64 {
         self.unshot
             .iter()
             .map(|u| u.abs().max_band())
@@ -191,7 +191,7 @@ impl ShootingState {
     }
 
     /// Takes patch `p`'s unshot radiosity for a shot: it becomes shot.
-    pub fn take_unshot(&mut self, p: u32) -> Rgb {
+    pub(crate) fn take_unshot(&mut self, p: u32) -> Rgb {
         let u = std::mem::take(&mut self.unshot[p as usize]);
         self.shot[p as usize] += u;
         u
@@ -199,7 +199,13 @@ impl ShootingState {
 
     /// Leaf `key` receives irradiance `h`: its radiosity grows by `rho h`, and
     /// its patch's radiosity and unshot radiosity by the area-weighted share.
-    pub fn receive(&mut self, mesh: &Mesh, radiosity: &mut Radiosity, key: ElementKey, h: Rgb) {
+    pub(crate) fn receive(
+        &mut self,
+        mesh: &Mesh,
+        radiosity: &mut Radiosity,
+        key: ElementKey,
+        h: Rgb,
+    ) {
         let e = &mesh.elements[key];
         let rho = mesh.surfaces[e.surface as usize].reflectance;
         let db = rho * h;
@@ -218,7 +224,13 @@ impl ShootingState {
     /// Sets a new leaf's irradiance outright (after a gather) and its radiosity
     /// to `E + rho H`. The patch totals are brought up to date by
     /// [`ShootingState::resum_patch`].
-    pub fn set_leaf(&mut self, mesh: &Mesh, radiosity: &mut Radiosity, key: ElementKey, h: Rgb) {
+    pub(crate) fn set_leaf(
+        &mut self,
+        mesh: &Mesh,
+        radiosity: &mut Radiosity,
+        key: ElementKey,
+        h: Rgb,
+    ) {
         let e = &mesh.elements[key];
         let s = &mesh.surfaces[e.surface as usize];
         radiosity.set_element(key, s.emission + s.reflectance * h);
@@ -228,7 +240,7 @@ impl ShootingState {
     /// Recomputes patch `p`'s radiosity as the area mean of its leaves, and
     /// moves the change into its unshot radiosity so that what it has shot
     /// stays what it has shot. Returns the change in radiosity.
-    pub fn resum_patch(&mut self, mesh: &Mesh, radiosity: &Radiosity, p: u32) -> Rgb {
+    pub(crate) fn resum_patch(&mut self, mesh: &Mesh, radiosity: &Radiosity, p: u32) -> Rgb {
         let mut sum = Rgb::ZERO;
         for k in mesh.patch_leaves(p) {
             sum += radiosity.element(k) * mesh.elements[k].area;
@@ -242,7 +254,7 @@ impl ShootingState {
 
     /// Absorbed power per band, `sum A (1 - rho) H` over the leaves.
     #[must_use]
-    pub fn absorbed_power(&self, mesh: &Mesh) -> Rgb {
+    pub(crate) fn absorbed_power(&self, mesh: &Mesh) -> Rgb {
         let mut sum = Rgb::ZERO;
         for k in mesh.leaves() {
             let e = &mesh.elements[k];

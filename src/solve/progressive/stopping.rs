@@ -19,7 +19,7 @@ pub enum StopReason {
 
 /// The stopping rules of one solve, with the time it started.
 #[derive(Clone, Debug)]
-pub struct Stopping<'a> {
+pub(crate) struct Stopping<'a> {
     settings: &'a ProgressiveSettings,
     started: Instant,
 }
@@ -27,20 +27,20 @@ pub struct Stopping<'a> {
 impl<'a> Stopping<'a> {
     /// The rules of `settings`, the time budget counted from `started`.
     #[must_use]
-    pub fn new(settings: &'a ProgressiveSettings, started: Instant) -> Self {
+    pub(crate) fn new(settings: &'a ProgressiveSettings, started: Instant) -> Self {
         Stopping { settings, started }
     }
 
     /// True when the unshot fraction has reached the tolerance.
     #[must_use]
-    pub fn converged(&self, unshot_fraction: f64) -> bool {
+    pub(crate) fn converged(&self, unshot_fraction: f64) -> bool {
         unshot_fraction <= self.settings.tolerance
     }
 
     /// The first rule that says stop after `shots` shots with `unshot_fraction`
     /// left, checked in the order tolerance, shot limit, time budget.
     #[must_use]
-    pub fn check(&self, shots: usize, unshot_fraction: f64) -> Option<StopReason> {
+    pub(crate) fn check(&self, shots: usize, unshot_fraction: f64) -> Option<StopReason> {
         if self.converged(unshot_fraction) {
             return Some(StopReason::Converged);
         }

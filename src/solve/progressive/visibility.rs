@@ -23,7 +23,7 @@ use crate::formfactor::Occluders;
 use glam::DVec3;
 
 /// Pixels a quadtree node must cover for its own visible fraction to count.
-pub const RESOLVED_PIXELS: u32 = 4;
+pub(super) const RESOLVED_PIXELS: u32 = 4;
 
 /// A patch whose won pixels add up to at least this fraction of its covered
 /// ones counts as fully visible (the sums differ only by rounding then).
@@ -32,7 +32,7 @@ const WHOLE: f64 = 1.0 - 1e-9;
 /// The patches of a patch-level item buffer that are partly visible, by
 /// increasing id.
 #[must_use]
-pub fn partly_visible(patches: &[Coverage]) -> Vec<u32> {
+pub(super) fn partly_visible(patches: &[Coverage]) -> Vec<u32> {
     patches
         .iter()
         .filter(|c| c.won > 0.0 && c.won < WHOLE * c.covered)
@@ -43,7 +43,7 @@ pub fn partly_visible(patches: &[Coverage]) -> Vec<u32> {
 /// The shooter's eye, for the shadow rays to leaves too small in its item
 /// buffer to judge by their pixels.
 #[derive(Clone, Copy, Debug)]
-pub struct ShooterEye<'a> {
+pub(super) struct ShooterEye<'a> {
     /// Every patch as an occluder.
     pub occluders: &'a Occluders,
     /// Where the eye is.
@@ -58,7 +58,7 @@ pub struct ShooterEye<'a> {
 /// coverage of the [`partly_visible`] patches (ids are leaf indices); both
 /// sorted by id.
 #[must_use]
-pub fn visible_fractions(
+pub(super) fn visible_fractions(
     receivers: &Receivers,
     patches: &[Coverage],
     leaves: &[Coverage],
