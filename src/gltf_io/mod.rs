@@ -41,10 +41,10 @@ mod quad_merge;
 mod textures;
 mod uri;
 
-pub use bake::{write_baked, BakeSummary};
+pub use bake::{stage_baked, write_baked, BakeSummary};
 pub use bake_colour::BakeColour;
 pub use baked::{load_baked, BakedScene};
-pub use export::write_scene;
+pub use export::{stage_scene, write_scene};
 pub use import::load_scene;
 pub use limits::ImportLimits;
 
