@@ -47,6 +47,7 @@ pub use baked::{load_baked, BakedScene};
 pub use export::{stage_scene, write_scene};
 pub use import::load_scene;
 pub use limits::ImportLimits;
+pub use textures::LinearImage;
 
 use crate::error::Error;
 use std::path::Path;

@@ -11,6 +11,7 @@ mod enclosures;
 mod ferren;
 mod hemicube;
 mod hostile_files;
+mod hostile_import;
 mod hostile_outputs;
 mod penumbra;
 mod penumbra_failure;
