@@ -10,6 +10,7 @@ mod determinism;
 mod enclosures;
 mod ferren;
 mod hemicube;
+mod hostile_cli;
 mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
