@@ -25,6 +25,22 @@ pub const MAX_IMAGE_SIDE: u32 = 16_384;
 /// encoders' buffers), so this bound is about 5 GiB.
 pub const MAX_IMAGE_PIXELS: u64 = 1 << 25;
 
+/// Largest `--exposure` magnitude in stops: 2^1000 is still a finite scale
+/// factor in double precision, and no display needs more.
+pub const MAX_EXPOSURE_STOPS: f64 = 1000.0;
+
+/// Refuses an `--exposure` that is not a finite number of stops within
+/// [`MAX_EXPOSURE_STOPS`] (NaN gave a black image without a word).
+pub fn check_exposure(stops: Option<f64>) -> Result<()> {
+    match stops {
+        Some(s) if !(s.is_finite() && s.abs() <= MAX_EXPOSURE_STOPS) => bail!(
+            "--exposure must be a number of stops from -{MAX_EXPOSURE_STOPS} to \
+             {MAX_EXPOSURE_STOPS}, got {s}"
+        ),
+        _ => Ok(()),
+    }
+}
+
 /// A pool of `threads` workers (all cores when `None`); refuses 0 and more
 /// than [`MAX_THREADS`].
 pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
@@ -108,6 +124,15 @@ mod tests {
         );
         for bad in [1e20, f64::NAN, -1.0, f64::INFINITY, 1.1e9] {
             assert!(time_budget(Some(bad)).is_err(), "{bad} accepted");
+        }
+    }
+
+    #[test]
+    fn exposures_that_are_not_a_finite_number_of_stops_are_refused() {
+        assert!(check_exposure(None).is_ok());
+        assert!(check_exposure(Some(-3.5)).is_ok());
+        for bad in [f64::NAN, f64::INFINITY, 1e300, -1001.0] {
+            assert!(check_exposure(Some(bad)).is_err(), "{bad} accepted");
         }
     }
 

@@ -54,6 +54,17 @@ pub fn read_text(path: &Path) -> Result<String> {
 /// be checked without the scene).
 pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
     let time_budget = time_budget(a.time_budget)?;
+    // Values the library would take in silence: a NaN or negative source
+    // tolerance turned source splitting off; no sweeps failed after the work.
+    if !(a.source_tolerance.is_finite() && a.source_tolerance >= 0.0) {
+        bail!(
+            "--source-tolerance must be a fraction >= 0 (0 never splits sources), got {}",
+            a.source_tolerance
+        );
+    }
+    if a.max_iterations == 0 {
+        bail!("--max-iterations must be at least 1");
+    }
     let solver_kind: SolverKind = a.solver.parse().map_err(anyhow::Error::msg)?;
     if a.preview_every.is_some() && solver_kind != SolverKind::Progressive {
         bail!("--preview-every needs --solver progressive (Gauss-Seidel has no previews)");
