@@ -41,7 +41,7 @@ pub fn read_text(path: &Path) -> Result<String> {
     const MAX_BYTES: u64 = 1 << 30;
     let file = radiosity::input::open_regular(path)?;
     let mut text = String::new();
-    std::io::Read::take(file, MAX_BYTES + 1)
+    file.take(MAX_BYTES + 1)
         .read_to_string(&mut text)
         .with_context(|| format!("reading {}", path.display()))?;
     if text.len() as u64 > MAX_BYTES {
@@ -54,8 +54,9 @@ pub fn read_text(path: &Path) -> Result<String> {
 /// be checked without the scene).
 pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
     let time_budget = time_budget(a.time_budget)?;
-    // Values the library would take in silence: a NaN or negative source
-    // tolerance turned source splitting off; no sweeps failed after the work.
+    // Values the library would take without a word or refuse only late: a NaN
+    // or negative source tolerance turned source splitting off, and
+    // --max-iterations 0 failed after all the form factors were computed.
     if !(a.source_tolerance.is_finite() && a.source_tolerance >= 0.0) {
         bail!(
             "--source-tolerance must be a fraction >= 0 (0 never splits sources), got {}",

@@ -122,7 +122,7 @@ fn local_transform(doc: &Document, n: usize) -> std::result::Result<DMat4, Strin
             return Err(format!(
                 "its matrix has the bottom row {bottom:?}, not [0, 0, 0, 1]: glTF node \
                  matrices must be affine (decomposable into translation, rotation and scale), \
-                 and a projective one would bend the triangles it places"
+                 and this one is projective"
             ));
         }
         DMat4::from_cols_array(&a)
