@@ -7,12 +7,17 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// A file could not be read or written.
-    #[error("{path}: {source}")]
+    ///
+    /// The message already holds the operating system's reason, so the reason
+    /// is deliberately not also reported as the error's `source()`: a report
+    /// that prints the whole chain (`anyhow`'s `{:#}`) would repeat it
+    /// (`Permission denied (os error 13): Permission denied (os error 13)`).
+    #[error("{path}: {error}")]
     Io {
         /// The file involved.
         path: PathBuf,
         /// The operating system's error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// A scene file is not valid glTF, or uses glTF in a way this importer rejects.
     #[error("{path}: {message}")]
@@ -64,10 +69,10 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
     /// An I/O error for `path`.
-    pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
-            source,
+            error,
         }
     }
 }

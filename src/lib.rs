@@ -16,7 +16,9 @@
 pub mod analytic;
 pub mod error;
 pub mod gltf_io;
+pub mod input;
 pub mod math;
+pub mod output;
 pub mod reference;
 pub mod render;
 #[cfg(feature = "cli")]

@@ -2,11 +2,13 @@
 //! per-vertex radiosity.
 
 use super::args::SolveSettingsArgs;
+use super::checks::thread_pool;
 use super::progress_bar::Bars;
-use super::solve_cmd::{load, settings, thread_pool};
-use anyhow::{bail, Context, Result};
+use super::solve_cmd::{check_gltf_name, load, settings};
+use anyhow::{Context, Result};
 use clap::Args;
 use radiosity::gltf_io::{write_baked, BakeColour};
+use radiosity::output::check_target;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -35,25 +37,22 @@ pub struct BakeArgs {
     pub quiet: bool,
 }
 
-/// Runs `radiosity bake`.
+/// Runs `radiosity bake`. The options and the output file are checked before
+/// the scene is loaded; the baked file replaces its target whole or not at
+/// all, so `bake x.glb -o x.glb` keeps `x.glb` intact if anything fails.
 pub fn run(a: &BakeArgs) -> Result<()> {
     let started = Instant::now();
-    // Refused before the solve rather than after it.
-    let extension = a.output.extension().and_then(|e| e.to_str());
-    if !extension.is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf")) {
-        bail!(
-            "{}: the baked file must end in .glb or .gltf",
-            a.output.display()
-        );
-    }
     let pool = thread_pool(a.settings.threads)?;
+    check_gltf_name(&a.output)?;
+    check_target(&a.output)?;
+    let settings = settings(&a.settings)?;
     pool.install(|| {
         let scene = load(&a.scene)?;
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }
         let bars = Bars::new(a.quiet);
-        let solution = radiosity::solve(&scene, &settings(&a.settings)?, &|p| bars.update(p))
+        let solution = radiosity::solve(&scene, &settings, &|p| bars.update(p))
             .with_context(|| format!("solving '{}'", scene.name))?;
         bars.finish();
         let solved = started.elapsed().as_secs_f64();

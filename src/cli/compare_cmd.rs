@@ -1,90 +1,244 @@
 //! `radiosity compare`: a solve's per-surface radiosities against a reference.
+//!
+//! The two files must describe the same objects: every surface of either must
+//! be in the other (matched by name), and every value must be a finite,
+//! non-negative number; anything else is an error naming the file, the
+//! surface and the field. A band whose reference value is zero has no relative
+//! error: it is reported as the absolute difference instead and kept out of
+//! the relative mean and maximum, so that one black band can neither make the
+//! mean infinite nor hide behind it.
 
 use super::args::CompareArgs;
-use anyhow::{bail, Context, Result};
-use serde::Deserialize;
-use std::path::Path;
+use super::surface_table::{read_table, SurfaceRow, SurfaceTable};
+use anyhow::{bail, Result};
 
-#[derive(Deserialize)]
-struct Surface {
-    name: String,
-    radiosity: [f64; 3],
-    #[serde(default)]
-    std_error: Option<[f64; 3]>,
-    #[serde(default)]
-    emits: bool,
+const BANDS: [&str; 3] = ["R", "G", "B"];
+
+/// Most names listed when surfaces are missing on either side.
+const NAMES_SHOWN: usize = 8;
+
+/// One band of one surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum BandError {
+    /// (solution - reference) / reference.
+    Relative(f64),
+    /// The reference is zero: solution - reference.
+    Absolute(f64),
 }
 
-#[derive(Deserialize)]
-struct Surfaces {
-    surfaces: Vec<Surface>,
+/// One surface of the comparison.
+#[derive(Debug)]
+struct Row<'a> {
+    reference: &'a SurfaceRow,
+    bands: [BandError; 3],
 }
 
-fn read(path: &Path) -> Result<Vec<Surface>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let s: Surfaces = serde_json::from_str(&text).with_context(|| {
-        format!(
-            "{}: no 'surfaces' list of name and radiosity",
-            path.display()
-        )
-    })?;
-    Ok(s.surfaces)
+/// The comparison of two checked tables.
+#[derive(Debug)]
+struct Comparison<'a> {
+    rows: Vec<Row<'a>>,
+    /// |relative error| of every counted (non-emitting, non-zero) band.
+    relative: Vec<f64>,
+}
+
+/// Matches the tables by name and computes every band's error. Errors name
+/// the surfaces only one side has.
+fn compare<'a>(solution: &SurfaceTable, reference: &'a SurfaceTable) -> Result<Comparison<'a>> {
+    let find = |t: &SurfaceTable, name: &str| t.rows.iter().position(|r| r.name == name);
+    let missing: Vec<&str> = reference
+        .rows
+        .iter()
+        .filter(|r| find(solution, &r.name).is_none())
+        .map(|r| r.name.as_str())
+        .collect();
+    let extra: Vec<&str> = solution
+        .rows
+        .iter()
+        .filter(|s| find(reference, &s.name).is_none())
+        .map(|s| s.name.as_str())
+        .collect();
+    if !missing.is_empty() || !extra.is_empty() {
+        bail!(
+            "the solution and the reference do not describe the same objects: {}{}{}",
+            listed("in the reference only", &missing),
+            if missing.is_empty() || extra.is_empty() {
+                ""
+            } else {
+                "; "
+            },
+            listed("in the solution only", &extra)
+        );
+    }
+    let mut rows = Vec::with_capacity(reference.rows.len());
+    let mut relative = Vec::new();
+    for r in &reference.rows {
+        let s = &solution.rows[find(solution, &r.name).expect("matched above")];
+        let bands = std::array::from_fn(|k| {
+            let (got, want) = (s.radiosity[k], r.radiosity[k]);
+            if want == 0.0 {
+                BandError::Absolute(got - want)
+            } else {
+                BandError::Relative((got - want) / want)
+            }
+        });
+        if !r.emits {
+            relative.extend(bands.iter().filter_map(|b| match b {
+                BandError::Relative(e) => Some(e.abs()),
+                BandError::Absolute(_) => None,
+            }));
+        }
+        rows.push(Row {
+            reference: r,
+            bands,
+        });
+    }
+    Ok(Comparison { rows, relative })
+}
+
+/// `what: 'a', 'b' (and N more)`, or nothing for an empty list.
+fn listed(what: &str, names: &[&str]) -> String {
+    if names.is_empty() {
+        return String::new();
+    }
+    let shown: Vec<String> = names
+        .iter()
+        .take(NAMES_SHOWN)
+        .map(|n| format!("'{n}'"))
+        .collect();
+    let more = names.len().saturating_sub(NAMES_SHOWN);
+    let tail = if more > 0 {
+        format!(" (and {more} more)")
+    } else {
+        String::new()
+    };
+    format!("{what}: {}{tail}", shown.join(", "))
 }
 
 /// Runs `radiosity compare`: prints a table and the mean and largest relative
 /// error over every band of every surface the reference marks as not
 /// emitting (an emitter's radiosity is mostly its own emission, which would
-/// flatter the mean; emitters are listed but not counted).
+/// flatter the mean; emitters are listed but not counted). Bands with a zero
+/// reference are listed by their absolute difference below the table.
 pub fn run(a: &CompareArgs) -> Result<()> {
-    let solution = read(&a.solution)?;
-    let reference = read(&a.reference)?;
-    let mut errors = Vec::new();
-    println!("surface          relative error (R, G, B) %         reference std. error %");
-    for r in &reference {
-        let Some(s) = solution.iter().find(|s| s.name == r.name) else {
-            bail!(
-                "surface '{}' of the reference is not in {}",
-                r.name,
-                a.solution.display()
+    let solution = read_table(&a.solution)?;
+    let reference = read_table(&a.reference)?;
+    if let (Some(s), Some(r)) = (&solution.scene, &reference.scene) {
+        if s != r {
+            eprintln!(
+                "warning: {} is a solution of '{s}', {} a reference of '{r}'; their objects \
+                 match by name, so they are compared",
+                a.solution.display(),
+                a.reference.display()
             );
-        };
-        let e: Vec<f64> = (0..3)
-            .map(|k| (s.radiosity[k] - r.radiosity[k]) / r.radiosity[k])
-            .collect();
-        let se: Vec<f64> = (0..3)
-            .map(|k| r.std_error.map_or(f64::NAN, |x| x[k] / r.radiosity[k]))
-            .collect();
-        let emitter = r.emits;
-        println!(
-            "{:<16} {:+7.3} {:+7.3} {:+7.3}{}   {:.3} {:.3} {:.3}",
-            r.name,
-            100.0 * e[0],
-            100.0 * e[1],
-            100.0 * e[2],
-            if emitter {
-                " (emitter, not counted)"
-            } else {
-                ""
-            },
-            100.0 * se[0],
-            100.0 * se[1],
-            100.0 * se[2]
-        );
-        if !emitter {
-            errors.extend(e.iter().map(|x| x.abs()));
         }
     }
-    if errors.is_empty() {
-        bail!("no surface to compare");
+    let comparison = compare(&solution, &reference).map_err(|e| {
+        e.context(format!(
+            "comparing {} with {}",
+            a.solution.display(),
+            a.reference.display()
+        ))
+    })?;
+    print_table(&comparison);
+    let c = &comparison.relative;
+    if c.is_empty() {
+        bail!(
+            "no band to compare: every surface emits or has a zero reference (see the absolute \
+             differences above)"
+        );
     }
-    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
-    let max = errors.iter().copied().fold(0.0, f64::max);
+    let mean = c.iter().sum::<f64>() / c.len() as f64;
+    let max = c.iter().copied().fold(0.0, f64::max);
     println!(
         "mean per-surface error {:.3}%, largest {:.3}% ({} surface-bands)",
         100.0 * mean,
         100.0 * max,
-        errors.len()
+        c.len()
     );
     Ok(())
+}
+
+fn print_table(c: &Comparison) {
+    println!("surface          relative error (R, G, B) %         reference std. error %");
+    let mut zero_bands = Vec::new();
+    for row in &c.rows {
+        let r = row.reference;
+        let cells: Vec<String> = row
+            .bands
+            .iter()
+            .enumerate()
+            .map(|(k, b)| match b {
+                BandError::Relative(e) => format!("{:+7.3}", 100.0 * e),
+                BandError::Absolute(d) => {
+                    zero_bands.push((r.name.as_str(), BANDS[k], *d));
+                    format!("{:>7}", "ref=0")
+                }
+            })
+            .collect();
+        let se: Vec<String> = (0..3)
+            .map(|k| match (r.std_error, r.radiosity[k]) {
+                (Some(x), v) if v > 0.0 => format!("{:.3}", 100.0 * x[k] / v),
+                _ => "-".to_string(),
+            })
+            .collect();
+        println!(
+            "{:<16} {} {} {}{}   {} {} {}",
+            r.name,
+            cells[0],
+            cells[1],
+            cells[2],
+            if r.emits {
+                " (emitter, not counted)"
+            } else {
+                ""
+            },
+            se[0],
+            se[1],
+            se[2]
+        );
+    }
+    if !zero_bands.is_empty() {
+        println!(
+            "{} surface-bands have a zero reference, so no relative error; they are left out \
+             of the figures below. Absolute differences (solution - reference):",
+            zero_bands.len()
+        );
+        for (name, band, d) in zero_bands {
+            println!("  {name} {band}: {d:+.6e}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::surface_table::parse_table;
+    use super::*;
+
+    fn table(rows: &[(&str, [f64; 3])]) -> SurfaceTable {
+        let surfaces: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|(n, b)| serde_json::json!({"name": n, "radiosity": b}))
+            .collect();
+        parse_table(&serde_json::json!({ "surfaces": surfaces }).to_string()).unwrap()
+    }
+
+    #[test]
+    fn a_zero_reference_band_is_an_absolute_difference_kept_out_of_the_mean() {
+        let reference = table(&[("a", [1.0, 0.0, 2.0])]);
+        let solution = table(&[("a", [1.1, 0.25, 2.0])]);
+        let c = compare(&solution, &reference).unwrap();
+        assert_eq!(c.rows[0].bands[1], BandError::Absolute(0.25));
+        assert_eq!(c.relative.len(), 2);
+        assert!(c.relative.iter().all(|e| e.is_finite()));
+        assert!((c.relative[0] - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn surfaces_on_one_side_only_are_named() {
+        let reference = table(&[("a", [1.0; 3]), ("b", [1.0; 3])]);
+        let solution = table(&[("a", [1.0; 3]), ("c", [1.0; 3])]);
+        let e = compare(&solution, &reference).unwrap_err().to_string();
+        assert!(e.contains("reference only: 'b'"), "{e}");
+        assert!(e.contains("solution only: 'c'"), "{e}");
+    }
 }

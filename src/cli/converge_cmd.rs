@@ -1,27 +1,54 @@
 //! `radiosity converge`: run time against error for one or more scenes.
 
 use super::args::ConvergeArgs;
-use super::solve_cmd::{load, settings, thread_pool};
+use super::checks::thread_pool;
+use super::solve_cmd::{load, settings};
 use anyhow::{bail, Context, Result};
+use radiosity::output::{prepare_folder, Outputs};
 use radiosity::report::{
     self, markdown_report, object_reference, objects_csv, run_sweep, runs_csv, Method,
     MonteCarloPoints, ReferencePoints, SweepEvent, SweepPlan,
 };
 use radiosity::scenes::penumbra;
+use radiosity::Settings;
 use std::path::{Path, PathBuf};
 
 /// Runs `radiosity converge`.
+/// Runs `radiosity converge`. The options and the output folder are checked
+/// before any scene is loaded, each scene's sweep settings before its
+/// reference is computed; the files of every scene replace their targets
+/// together at the end (none of them if any scene fails).
 pub fn run(a: &ConvergeArgs) -> Result<()> {
     let pool = thread_pool(a.settings.threads)?;
     let methods = parse_methods(&a.methods)?;
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("creating the folder {}", a.out.display()))?;
+    let base = settings(&a.settings)?;
+    check_counts(a)?;
+    prepare_folder(&a.out)?;
+    let mut outputs = Outputs::new();
     pool.install(|| {
         for scene in &a.scenes {
-            converge_one(a, &methods, scene)?;
+            converge_one(a, &methods, &base, scene, &mut outputs)?;
         }
-        Ok(())
-    })
+        anyhow::Ok(())
+    })?;
+    for path in outputs.commit()? {
+        println!("{}", path.display());
+    }
+    Ok(())
+}
+
+/// Refuses counts that leave nothing to measure.
+fn check_counts(a: &ConvergeArgs) -> Result<()> {
+    if a.points == 0 {
+        bail!("--points must be at least 1");
+    }
+    if a.paths < 2 || (a.objects && a.object_paths < 2) {
+        bail!("--paths and --object-paths must be at least 2 (one path gives no standard error)");
+    }
+    if a.repeats == 0 {
+        bail!("--repeats must be at least 1");
+    }
+    Ok(())
 }
 
 fn parse_methods(names: &[String]) -> Result<Vec<Method>> {
@@ -36,13 +63,52 @@ fn parse_methods(names: &[String]) -> Result<Vec<Method>> {
         .collect()
 }
 
-fn converge_one(a: &ConvergeArgs, methods: &[Method], name: &str) -> Result<()> {
+fn converge_one(
+    a: &ConvergeArgs,
+    methods: &[Method],
+    base: &Settings,
+    name: &str,
+    outputs: &mut Outputs,
+) -> Result<()> {
     let scene = load(name)?;
     let say = |text: String| {
         if !a.quiet {
             eprintln!("{text}");
         }
     };
+    let wants = |m: Method| methods.contains(&m);
+    let plan = SweepPlan {
+        base: base.clone(),
+        uniform_depths: if wants(Method::Uniform) {
+            a.depths.clone()
+        } else {
+            Vec::new()
+        },
+        adaptive_tolerances: if wants(Method::Adaptive) {
+            a.tolerances.clone()
+        } else {
+            Vec::new()
+        },
+        hemicube_resolutions: if wants(Method::Hemicube) {
+            a.resolutions.clone()
+        } else {
+            Vec::new()
+        },
+        patch_divisions: if wants(Method::Patches) {
+            a.patch_divisions.clone()
+        } else {
+            Vec::new()
+        },
+        unshot_fractions: if wants(Method::Progressive) {
+            a.unshot_fractions.clone()
+        } else {
+            Vec::new()
+        },
+    };
+    let runs = plan.runs(&scene)?;
+    if runs.is_empty() {
+        bail!("no runs: every chosen method has an empty list");
+    }
     let oracle = penumbra::by_name(name).filter(|_| !Path::new(name).exists());
     let reference = match (&oracle, a.monte_carlo) {
         (Some(spec), false) => {
@@ -81,39 +147,6 @@ fn converge_one(a: &ConvergeArgs, methods: &[Method], name: &str) -> Result<()> 
         None
     };
 
-    let wants = |m: Method| methods.contains(&m);
-    let plan = SweepPlan {
-        base: settings(&a.settings)?,
-        uniform_depths: if wants(Method::Uniform) {
-            a.depths.clone()
-        } else {
-            Vec::new()
-        },
-        adaptive_tolerances: if wants(Method::Adaptive) {
-            a.tolerances.clone()
-        } else {
-            Vec::new()
-        },
-        hemicube_resolutions: if wants(Method::Hemicube) {
-            a.resolutions.clone()
-        } else {
-            Vec::new()
-        },
-        patch_divisions: if wants(Method::Patches) {
-            a.patch_divisions.clone()
-        } else {
-            Vec::new()
-        },
-        unshot_fractions: if wants(Method::Progressive) {
-            a.unshot_fractions.clone()
-        } else {
-            Vec::new()
-        },
-    };
-    let runs = plan.runs(&scene)?;
-    if runs.is_empty() {
-        bail!("no runs: every chosen method has an empty list");
-    }
     let progress = |event: SweepEvent<'_>| {
         if let SweepEvent::Finished {
             index,
@@ -146,33 +179,18 @@ fn converge_one(a: &ConvergeArgs, methods: &[Method], name: &str) -> Result<()> 
     .with_context(|| format!("sweeping '{}'", scene.name))?;
 
     let file = |suffix: &str| -> PathBuf { a.out.join(format!("{}{suffix}", scene.name)) };
-    let write = |path: PathBuf, text: String| -> Result<PathBuf> {
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
-        Ok(path)
-    };
-    let mut written = vec![
-        write(file(".csv"), runs_csv(&scene.name, &reference, &records))?,
-        write(
-            file(".md"),
-            markdown_report(&scene.name, &reference, &records),
-        )?,
-    ];
+    let csv = runs_csv(&scene.name, &reference, &records);
+    outputs.stage_bytes(&file(".csv"), csv.as_bytes())?;
+    let md = markdown_report(&scene.name, &reference, &records);
+    outputs.stage_bytes(&file(".md"), md.as_bytes())?;
     if objects.is_some() {
-        written.push(write(
-            file("_objects.csv"),
-            objects_csv(&scene.name, &records),
-        )?);
+        let text = objects_csv(&scene.name, &records);
+        outputs.stage_bytes(&file("_objects.csv"), text.as_bytes())?;
     }
     let (svg, png) = (file("_error_time.svg"), file("_error_time.png"));
-    report::write_time_plot(&scene.name, &records, &svg, &png)?;
-    written.extend([svg, png]);
+    report::stage_time_plot(outputs, &scene.name, &records, &svg, &png)?;
     let (svg, png) = (file("_error_depth.svg"), file("_error_depth.png"));
     let base_size = plan.base.patch_size_for(&scene);
-    if report::write_depth_plot(&scene.name, &records, base_size, &svg, &png)? {
-        written.extend([svg, png]);
-    }
-    for path in written {
-        println!("{}", path.display());
-    }
+    report::stage_depth_plot(outputs, &scene.name, &records, base_size, &svg, &png)?;
     Ok(())
 }

@@ -2,6 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use radiosity::output::check_target;
 use radiosity::render::{self, DiffMetrics};
 use serde::Serialize;
 use std::io::Write;
@@ -50,6 +51,7 @@ pub fn run(a: &DiffArgs) -> Result<()> {
             output.display()
         );
     }
+    check_target(&output)?;
     let image_a = render::read_hdr_image(&a.a)?;
     let image_b = render::read_hdr_image(&a.b)?;
     let (difference, metrics) = render::diff(&image_a, &image_b)
@@ -64,9 +66,8 @@ pub fn run(a: &DiffArgs) -> Result<()> {
             } else {
                 1.0
             };
-            render::false_colour(&difference, 0.0, top, false)?
-                .save(&output)
-                .with_context(|| format!("writing {}", output.display()))?;
+            let picture = render::false_colour(&difference, 0.0, top, false)?;
+            render::write_rgb8_png(&picture, &output)?;
         }
     }
     // Written, not printed: a closed pipe (`| head`) is an error, not a panic.

@@ -3,6 +3,7 @@
 mod args;
 mod bake_cmd;
 mod camera_arg;
+mod checks;
 mod compare_cmd;
 mod converge_cmd;
 mod diff_cmd;
@@ -12,6 +13,7 @@ mod progress_bar;
 mod reference_cmd;
 mod render_cmd;
 mod solve_cmd;
+mod surface_table;
 mod view_args;
 mod views;
 

@@ -1,12 +1,15 @@
 //! `radiosity probe`: solve, then write the radiosity at given points as CSV.
 
 use super::args::ProbeArgs;
+use super::checks::thread_pool;
 use super::progress_bar::Bars;
-use super::solve_cmd::{load, settings, thread_pool};
+use super::solve_cmd::{load, read_text, settings};
 use anyhow::{bail, Context, Result};
 use glam::DVec3;
+use radiosity::output::{check_target, write_bytes};
 use radiosity::scenes::penumbra::{self, PenumbraSpec};
 use radiosity::solution::ProbeTolerance;
+use radiosity::Settings;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -19,15 +22,16 @@ pub struct ProbePoint {
     pub normal: DVec3,
 }
 
-/// Runs `radiosity probe`.
+/// Runs `radiosity probe`. The options, the points file and the output file
+/// are checked before the scene is loaded.
 pub fn run(a: &ProbeArgs) -> Result<()> {
     let pool = thread_pool(a.settings.threads)?;
-    pool.install(|| run_in_pool(a))
+    let settings = settings(&a.settings)?;
+    pool.install(|| run_in_pool(a, &settings))
 }
 
-fn run_in_pool(a: &ProbeArgs) -> Result<()> {
-    let text = std::fs::read_to_string(&a.points)
-        .with_context(|| format!("reading the points file {}", a.points.display()))?;
+fn run_in_pool(a: &ProbeArgs, settings: &Settings) -> Result<()> {
+    let text = read_text(&a.points).context("reading the points file")?;
     let points = parse_points(&text).with_context(|| format!("{}", a.points.display()))?;
     let oracle = if a.exact {
         Some(exact_oracle(&a.scene)?)
@@ -39,13 +43,16 @@ fn run_in_pool(a: &ProbeArgs) -> Result<()> {
         normal_degrees: a.normal_tolerance,
     };
     tolerance.validate()?;
+    if let Some(path) = &a.output {
+        check_target(path)?;
+    }
 
     let scene = load(&a.scene)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
     let bars = Bars::new(a.quiet);
-    let solution = radiosity::solve(&scene, &settings(&a.settings)?, &|p| bars.update(p))
+    let solution = radiosity::solve(&scene, settings, &|p| bars.update(p))
         .with_context(|| format!("solving '{}'", scene.name))?;
     bars.finish();
 
@@ -63,9 +70,7 @@ fn run_in_pool(a: &ProbeArgs) -> Result<()> {
         write_row(&mut out, p, hit.map(|h| h.radiosity), exact);
     }
     match &a.output {
-        Some(path) => {
-            std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))?
-        }
+        Some(path) => write_bytes(path, out.as_bytes())?,
         None => print!("{out}"),
     }
     if misses > 0 && !a.quiet {

@@ -1,9 +1,11 @@
 //! `radiosity reference`: per-object path-traced means with standard errors.
 
 use super::args::ReferenceArgs;
+use super::checks::thread_pool;
 use super::solve_cmd::load;
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use radiosity::math::Rgb;
+use radiosity::output::{check_target, write_bytes};
 use radiosity::reference::{Reference, ReferenceSettings};
 use serde::Serialize;
 use std::time::Instant;
@@ -31,21 +33,18 @@ struct Report {
 
 /// Runs `radiosity reference`.
 pub fn run(a: &ReferenceArgs) -> Result<()> {
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = a.threads {
-        if n == 0 {
-            bail!("--threads must be at least 1");
-        }
-        pool = pool.num_threads(n);
-    }
-    let pool = pool.build().context("starting the worker threads")?;
-    let scene = load(&a.scene)?;
-    let started = Instant::now();
+    let pool = thread_pool(a.threads)?;
     let settings = ReferenceSettings {
         paths: a.paths,
         seed: a.seed,
         ..ReferenceSettings::default()
     };
+    settings.validate()?;
+    if let Some(path) = &a.output {
+        check_target(path)?;
+    }
+    let scene = load(&a.scene)?;
+    let started = Instant::now();
     let means = pool.install(|| -> Result<_> {
         let reference = Reference::new(&scene)?;
         Ok(reference.object_means(&settings)?)
@@ -75,9 +74,7 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
     };
     let text = serde_json::to_string_pretty(&report)? + "\n";
     match &a.output {
-        Some(path) => {
-            std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?
-        }
+        Some(path) => write_bytes(path, text.as_bytes())?,
         None => print!("{text}"),
     }
     Ok(())

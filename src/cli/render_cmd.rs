@@ -1,11 +1,12 @@
 //! `radiosity render`: more views of a baked solution, without solving again.
 
 use super::view_args::ViewArgs;
-use super::views::{choose_views, write_views};
+use super::views::{check_view_files, choose_views, write_views};
 use anyhow::Result;
 use clap::Args;
 use glam::DVec3;
 use radiosity::gltf_io::{load_baked, ImportLimits};
+use radiosity::output::{prepare_folder, Outputs};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -25,10 +26,11 @@ pub struct RenderArgs {
     pub quiet: bool,
 }
 
-/// Runs `radiosity render`.
+/// Runs `radiosity render`: all views' files replace their targets together.
 pub fn run(a: &RenderArgs) -> Result<()> {
     let started = Instant::now();
     let plan = a.view.plan()?;
+    prepare_folder(&a.out)?;
     let baked = load_baked(&a.baked, &ImportLimits::default())?;
     for w in &baked.warnings {
         eprintln!("warning: {w}");
@@ -38,7 +40,10 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
     let views = choose_views(&plan, &baked.cameras, lo, hi);
+    check_view_files(views.len(), &a.view, &plan, &a.out, &baked.name)?;
+    let mut staged = Outputs::new();
     let outputs = write_views(
+        &mut staged,
         &baked.mesh,
         &views,
         &a.view,
@@ -47,6 +52,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         &baked.name,
         None,
     )?;
+    staged.commit()?;
     if !a.quiet {
         eprintln!(
             "{}: {} triangles, {} view(s) in {:.3} s; wrote {}",

@@ -1,10 +1,13 @@
 //! `radiosity solve`: load, solve, render every view, write images and stats.
 
 use super::args::{ExportArgs, SolveArgs, SolveSettingsArgs};
+use super::checks::{thread_pool, time_budget};
 use super::progress_bar::Bars;
-use super::views::{choose_views, write_views, Overlay};
+use super::view_args::ViewPlan;
+use super::views::{check_view_files, choose_views, write_views, Overlay};
 use anyhow::{bail, Context, Result};
 use radiosity::gltf_io::{self, ImportLimits};
+use radiosity::output::{check_target, prepare_folder, Outputs};
 use radiosity::pipeline::{Preview, SolveStats};
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, ShadedMesh, ToneMap};
@@ -14,7 +17,8 @@ use radiosity::solve::progressive::ProgressiveStats;
 use radiosity::solve::{ProgressiveSettings, SolverKind, SolverSettings};
 use radiosity::{scenes, Settings};
 use serde::Serialize;
-use std::path::{Path, PathBuf};
+use std::io::Read;
+use std::path::Path;
 use std::time::Instant;
 
 /// Loads a scene from a file, or a built-in scene by name.
@@ -33,19 +37,38 @@ pub fn load(scene: &str) -> Result<Scene> {
     Ok(gltf_io::load_scene(path, &ImportLimits::default())?)
 }
 
-/// The library settings the solve flags ask for.
+/// The text of a regular file of at most 1 GiB (a FIFO or device is refused
+/// rather than read for ever).
+pub fn read_text(path: &Path) -> Result<String> {
+    const MAX_BYTES: u64 = 1 << 30;
+    let file = radiosity::input::open_regular(path)?;
+    let mut text = String::new();
+    file.take(MAX_BYTES + 1)
+        .read_to_string(&mut text)
+        .with_context(|| format!("reading {}", path.display()))?;
+    if text.len() as u64 > MAX_BYTES {
+        bail!("{}: larger than {MAX_BYTES} bytes", path.display());
+    }
+    Ok(text)
+}
+
+/// The library settings the solve flags ask for, checked (everything that can
+/// be checked without the scene).
 pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
-    let time_budget = match a.time_budget {
-        Some(t) if !(t.is_finite() && t >= 0.0) => {
-            bail!("--time-budget must be a number of seconds >= 0, got {t}")
-        }
-        t => t.map(std::time::Duration::from_secs_f64),
-    };
+    let time_budget = time_budget(a.time_budget)?;
+    // Values the library would take without a word: a NaN or negative source
+    // tolerance turned source splitting off.
+    if !(a.source_tolerance.is_finite() && a.source_tolerance >= 0.0) {
+        bail!(
+            "--source-tolerance must be a fraction >= 0 (0 never splits sources), got {}",
+            a.source_tolerance
+        );
+    }
     let solver_kind: SolverKind = a.solver.parse().map_err(anyhow::Error::msg)?;
     if a.preview_every.is_some() && solver_kind != SolverKind::Progressive {
         bail!("--preview-every needs --solver progressive (Gauss-Seidel has no previews)");
     }
-    Ok(Settings {
+    let settings = Settings {
         hemicube_resolution: a.hemicube_res,
         emitter_sampling: a.emitter_samples.parse().map_err(anyhow::Error::msg)?,
         patch_size: a.patch_size,
@@ -74,7 +97,9 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
         },
         bounces: if a.direct_only { Some(1) } else { a.bounces },
         ..Settings::default()
-    })
+    };
+    settings.validate()?;
+    Ok(settings)
 }
 
 #[derive(Serialize)]
@@ -140,29 +165,29 @@ struct SolverReport {
     contraction: f64,
 }
 
-/// Runs `radiosity solve`.
+/// Runs `radiosity solve`: every option and the output folder are checked
+/// before the scene is loaded; every file is staged and they all replace
+/// their targets together at the end (none of them if anything fails).
 pub fn run(a: &SolveArgs) -> Result<()> {
     let started = Instant::now();
     let pool = thread_pool(a.settings.threads)?;
-    let threads = pool.current_num_threads();
-    pool.install(|| run_in_pool(a, started, threads))
-}
-
-/// A pool of `threads` workers (all cores when `None`).
-pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
-    let mut pool = rayon::ThreadPoolBuilder::new();
-    if let Some(n) = threads {
-        if n == 0 {
-            bail!("--threads must be at least 1");
-        }
-        pool = pool.num_threads(n);
-    }
-    pool.build().context("starting the worker threads")
-}
-
-fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
     let plan = a.view.plan()?;
+    let settings = settings(&a.settings)?;
+    prepare_folder(&a.out)?;
+    if let Some(png) = &a.mesh_out {
+        check_target(png)?;
+    }
+    let threads = pool.current_num_threads();
+    pool.install(|| run_in_pool(a, &plan, &settings, started, threads))
+}
 
+fn run_in_pool(
+    a: &SolveArgs,
+    plan: &ViewPlan,
+    settings: &Settings,
+    started: Instant,
+    threads: usize,
+) -> Result<()> {
     let t = Instant::now();
     let scene = load(&a.scene)?;
     let load_seconds = t.elapsed().as_secs_f64();
@@ -171,9 +196,10 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
     }
 
     let (lo, hi) = scene.bounds();
-    let views = choose_views(&plan, &scene.cameras, lo, hi);
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("creating the output folder {}", a.out.display()))?;
+    let views = choose_views(plan, &scene.cameras, lo, hi);
+    // The file names follow the scene's name: checked now, before the solve.
+    check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
+    check_target(&a.out.join(format!("{}.json", scene.name)))?;
 
     let bars = Bars::new(a.quiet);
     let mut previews = PreviewWriter {
@@ -185,18 +211,21 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         written: Vec::new(),
         error: None,
     };
-    let solution = radiosity::pipeline::solve_with_previews(
-        &scene,
-        &settings(&a.settings)?,
-        &|p| bars.update(p),
-        &mut |p| previews.write(p),
-    )
-    .with_context(|| format!("solving '{}'", scene.name))?;
+    let solution =
+        radiosity::pipeline::solve_with_previews(&scene, settings, &|p| bars.update(p), &mut |p| {
+            previews.write(p)
+        })
+        .with_context(|| format!("solving '{}'", scene.name))?;
     bars.finish();
     if let Some(e) = previews.error {
         return Err(e);
     }
-    let mut written = std::mem::take(&mut previews.written);
+    let mut staged = Outputs::new();
+    let written: Vec<String> = previews
+        .written
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
 
     let t = Instant::now();
     let mesh = radiance_mesh(&solution);
@@ -209,8 +238,17 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         png,
         segments: &segments,
     });
-    let mut outputs = write_views(&mesh, &views, &a.view, &plan, &a.out, &scene.name, overlay)?;
-    outputs.append(&mut written);
+    let mut outputs = write_views(
+        &mut staged,
+        &mesh,
+        &views,
+        &a.view,
+        plan,
+        &a.out,
+        &scene.name,
+        overlay,
+    )?;
+    outputs.extend(written);
     let render_seconds = t.elapsed().as_secs_f64();
 
     let s: &SolveStats = solution.stats();
@@ -259,7 +297,9 @@ fn run_in_pool(a: &SolveArgs, started: Instant, threads: usize) -> Result<()> {
         outputs,
         surfaces: solution.object_radiosity(&scene),
     };
-    write_json(&json, &report)?;
+    let text = serde_json::to_string_pretty(&report)? + "\n";
+    staged.stage_bytes(&json, text.as_bytes())?;
+    staged.commit()?;
     if !a.quiet {
         eprintln!(
             "{}: {} patches, {} elements, {} hemi-cubes, {:.3} s; wrote {}",
@@ -291,14 +331,17 @@ pub fn radiance_mesh(solution: &radiosity::Solution) -> ShadedMesh {
 
 /// Writes the previews of a progressive solve: the first view, with the
 /// ambient term, at one exposure for all (the first preview's unless
-/// `--exposure` is given) so that they show the image filling in.
+/// `--exposure` is given) so that they show the image filling in. Each is
+/// written (whole, by its own rename) as soon as it is rendered: previews
+/// show a solve under way, so they cannot wait for the run's other outputs.
 struct PreviewWriter<'a> {
     args: &'a SolveArgs,
     scene: &'a str,
     camera: &'a Camera,
     tone: ToneMap,
     exposure: Option<f64>,
-    written: Vec<String>,
+    /// The previews written so far.
+    written: Vec<std::path::PathBuf>,
     error: Option<anyhow::Error>,
 }
 
@@ -337,18 +380,15 @@ impl PreviewWriter<'_> {
             .out
             .join(format!("{}_preview_{:04}.png", self.scene, p.shots));
         render::write_png(&image, &png, stops, self.tone)?;
-        self.written.push(png.display().to_string());
+        self.written.push(png);
         Ok(())
     }
 }
 
-fn write_json<T: Serialize>(path: &PathBuf, value: &T) -> Result<()> {
-    let text = serde_json::to_string_pretty(value)?;
-    std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))
-}
-
 /// Runs `radiosity export-scene`.
 pub fn export_scene(a: &ExportArgs) -> Result<()> {
+    check_gltf_name(&a.output)?;
+    check_target(&a.output)?;
     let Some(scene) = scenes::by_name(&a.name) else {
         bail!(
             "no built-in scene '{}' (built-in: {}, {})",
@@ -358,5 +398,17 @@ pub fn export_scene(a: &ExportArgs) -> Result<()> {
         );
     };
     gltf_io::write_scene(&scene, &a.output)?;
+    Ok(())
+}
+
+/// Refuses an output file name that is neither `.glb` nor `.gltf`.
+pub fn check_gltf_name(path: &Path) -> Result<()> {
+    let extension = path.extension().and_then(|e| e.to_str());
+    if !extension.is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf")) {
+        bail!(
+            "{}: the file name must end in .glb or .gltf",
+            path.display()
+        );
+    }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! map, extra HDR and false-colour outputs. Shared by `solve` and `render`.
 
 use super::camera_arg::parse_camera;
+use super::checks::{check_exposure, check_image_size};
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
 use radiosity::render::ToneMap;
@@ -73,8 +74,11 @@ pub struct ViewPlan {
 }
 
 impl ViewArgs {
-    /// Parses the cameras, tone map and false-colour range.
+    /// Checks the image size and parses the cameras, tone map and
+    /// false-colour range.
     pub fn plan(&self) -> Result<ViewPlan> {
+        check_image_size(self.width, self.height)?;
+        check_exposure(self.exposure)?;
         let tone: ToneMap = self.tonemap.parse().map_err(anyhow::Error::msg)?;
         let cameras = self
             .camera

@@ -3,9 +3,10 @@
 //! `render`, so both write the same files the same way.
 
 use super::view_args::{FalseColourScale, ViewArgs, ViewPlan};
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::output::{check_target, Outputs};
 use radiosity::render::{self, HdrImage, ShadedMesh};
 use radiosity::scene::Camera;
 use std::path::Path;
@@ -30,10 +31,13 @@ pub fn choose_views(plan: &ViewPlan, own: &[Camera], lo: DVec3, hi: DVec3) -> Ve
     }
 }
 
-/// Renders `mesh` (radiance per vertex) from every view into `out` and returns
-/// the files written. View 1 is NAME.*, view k is NAME_viewk.*; one exposure
-/// and one false-colour range serve every view, so that they compare.
+/// Renders `mesh` (radiance per vertex) from every view into `out`, staging
+/// the files in `outputs`, and returns their names. View 1 is NAME.*, view k
+/// is NAME_viewk.*; one exposure and one false-colour range serve every view,
+/// so that they compare.
+#[allow(clippy::too_many_arguments)]
 pub fn write_views(
+    outputs: &mut Outputs,
     mesh: &ShadedMesh,
     views: &[Camera],
     args: &ViewArgs,
@@ -42,30 +46,24 @@ pub fn write_views(
     name: &str,
     overlay: Option<Overlay>,
 ) -> Result<Vec<String>> {
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("creating the output folder {}", out.display()))?;
     let tone = plan.tone;
-    let mut outputs = Vec::new();
+    let mut names = Vec::new();
     let mut exposure = args.exposure;
     let mut false_range = plan.false_colour.and_then(|(_, r)| r);
     for (i, camera) in views.iter().enumerate() {
-        let stem = if i == 0 {
-            name.to_string()
-        } else {
-            format!("{name}_view{}", i + 1)
-        };
+        let stem = view_stem(name, i);
         let (image, depth) = render::render_with_depth(mesh, camera, args.width, args.height, 2)?;
         let stops = *exposure.get_or_insert_with(|| render::auto_exposure(&image, tone));
         let mut write = |suffix: &str| {
             let path = out.join(format!("{stem}{suffix}"));
-            outputs.push(path.display().to_string());
+            names.push(path.display().to_string());
             path
         };
-        render::write_exr(&image, &write(".exr"))?;
+        render::stage_exr(outputs, &image, &write(".exr"))?;
         if args.hdr {
-            render::write_hdr(&image, &write(".hdr"))?;
+            render::stage_hdr(outputs, &image, &write(".hdr"))?;
         }
-        render::write_png(&image, &write(".png"), stops, tone)?;
+        render::stage_png(outputs, &image, &write(".png"), stops, tone)?;
         if let Some((scale, _)) = plan.false_colour {
             let log = scale == FalseColourScale::Log;
             let (lo, hi) = match false_range {
@@ -73,21 +71,53 @@ pub fn write_views(
                 None => *false_range.insert(image_range(&image, log)?),
             };
             let picture = render::false_colour(&image, lo, hi, log)?;
-            let path = write("_false.png");
-            picture
-                .save(&path)
-                .with_context(|| format!("writing {}", path.display()))?;
+            render::stage_rgb8_png(outputs, &picture, &write("_false.png"))?;
         }
         if let (0, Some(o)) = (i, &overlay) {
             let mut over = image.clone();
             // Mesh lines in cyan at display white, whatever the exposure.
             let colour = Rgb::new(0.0, 0.8, 1.0) * 2f64.powf(-stops) * 1.5;
             render::draw_segments_depth_tested(&mut over, &depth, camera, o.segments, colour)?;
-            render::write_png(&over, o.png, stops, tone)?;
-            outputs.push(o.png.display().to_string());
+            render::stage_png(outputs, &over, o.png, stops, tone)?;
+            names.push(o.png.display().to_string());
         }
     }
-    Ok(outputs)
+    Ok(names)
+}
+
+/// The file name stem of view `i` (from 0): NAME, then NAME_view2, ...
+fn view_stem(name: &str, i: usize) -> String {
+    if i == 0 {
+        name.to_string()
+    } else {
+        format!("{name}_view{}", i + 1)
+    }
+}
+
+/// Checks, before any rendering, that every file [`write_views`] would write
+/// for `views` views can be written (no target is a folder, the folder takes
+/// new files).
+pub fn check_view_files(
+    views: usize,
+    args: &ViewArgs,
+    plan: &ViewPlan,
+    out: &Path,
+    name: &str,
+) -> Result<()> {
+    let mut suffixes = vec![".exr", ".png"];
+    if args.hdr {
+        suffixes.push(".hdr");
+    }
+    if plan.false_colour.is_some() {
+        suffixes.push("_false.png");
+    }
+    for i in 0..views {
+        let stem = view_stem(name, i);
+        for suffix in &suffixes {
+            check_target(&out.join(format!("{stem}{suffix}")))?;
+        }
+    }
+    Ok(())
 }
 
 /// The false-colour range of an image: its smallest and largest luminance

@@ -10,6 +10,7 @@ use super::precise::scalar;
 use crate::error::Result;
 use crate::math::Rgb;
 use crate::mesh::ShadingMesh;
+use crate::output::Outputs;
 use crate::scene::{Material, Scene};
 use gltf_json::material::{
     EmissiveFactor, PbrBaseColorFactor, PbrMetallicRoughness, StrengthFactor,
@@ -78,8 +79,29 @@ struct Baked {
 /// [`Error::Output`](crate::Error::Output) for an unknown extension, a scene
 /// glTF cannot hold, or a display mesh that does not belong to `scene` (a
 /// surface or vertex index out of range, a non-finite radiosity);
-/// [`Error::Io`](crate::Error::Io) if the file cannot be written.
+/// [`Error::Io`](crate::Error::Io) if the file cannot be written. The file is
+/// written whole or not at all (see [`crate::output`]): on any error a file
+/// already at `path` (even the scene that was solved) is left as it was.
 pub fn write_baked(
+    scene: &Scene,
+    shading: &ShadingMesh,
+    colour: BakeColour,
+    path: &Path,
+) -> Result<BakeSummary> {
+    let mut outputs = Outputs::new();
+    let summary = stage_baked(&mut outputs, scene, shading, colour, path)?;
+    outputs.commit()?;
+    Ok(summary)
+}
+
+/// [`write_baked`] into a caller's set of outputs, renamed into place with the
+/// rest of the set by [`Outputs::commit`].
+///
+/// # Errors
+///
+/// As for [`write_baked`].
+pub fn stage_baked(
+    outputs: &mut Outputs,
     scene: &Scene,
     shading: &ShadingMesh,
     colour: BakeColour,
@@ -182,7 +204,15 @@ pub fn write_baked(
     }
     nodes.extend(export_cameras(&mut root, scene, &mut precise));
     precise.push(("/asset/extras/radiosity".to_string(), description(colour)));
-    summary.bytes = finish(root, scene, nodes, geometry.bin, &precise, path, binary)?;
+    summary.bytes = finish(
+        root,
+        scene,
+        nodes,
+        geometry.bin,
+        &precise,
+        (outputs, path),
+        binary,
+    )?;
     Ok(summary)
 }
 

@@ -69,7 +69,7 @@ pub(super) fn load_buffers(
 /// The operating system's reason without repeating the path.
 fn io_reason(e: &Error) -> String {
     match e {
-        Error::Io { source, .. } => source.to_string(),
+        Error::Io { error, .. } => error.to_string(),
         other => other.to_string(),
     }
 }

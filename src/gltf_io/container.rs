@@ -5,6 +5,7 @@
 use super::gltf_error;
 use super::limits::ImportLimits;
 use crate::error::{Error, Result};
+use crate::input::open_regular;
 use std::io::Read;
 use std::path::Path;
 
@@ -24,9 +25,10 @@ const CHUNK_JSON: u32 = 0x4E4F_534A;
 const CHUNK_BIN: u32 = 0x004E_4942;
 
 /// Reads a whole file after checking its size against the limit. `Error::Io`
-/// when it cannot be opened or read.
+/// when it cannot be opened or read, or is not a regular file (a FIFO would
+/// block the read for ever; see [`open_regular`]).
 pub(super) fn read_limited(path: &Path, limits: &ImportLimits) -> Result<Vec<u8>> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let file = open_regular(path)?;
     let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
     if len > limits.max_file_bytes {
         return Err(Error::Limit(format!(

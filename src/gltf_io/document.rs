@@ -93,8 +93,16 @@ fn validate(path: &Path, root: &Root, warnings: &mut Vec<String>) -> Result<()> 
     let mut fatal = Vec::new();
     for (where_, e) in problems {
         // POSITION min/max are required by the specification but this importer does
-        // not need them, so their absence is only reported.
-        let bounds = where_.ends_with("POSITION.min") || where_.ends_with("POSITION.max");
+        // not need them, so their absence is only reported. gltf-json spells the
+        // path `attributes["POSITION"].min`.
+        let bounds = [
+            "POSITION.min",
+            "POSITION.max",
+            "\"POSITION\"].min",
+            "\"POSITION\"].max",
+        ]
+        .iter()
+        .any(|end| where_.ends_with(end));
         // glTF 2.0 allows an accessor without a buffer view (it reads as zeros);
         // gltf-json reports it as missing.
         let zeros = where_.starts_with("accessors[") && where_.ends_with("].bufferView");

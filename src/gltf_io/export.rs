@@ -5,6 +5,7 @@ use super::export_geometry::GeometryWriter;
 use super::precise::{array, scalar, set};
 use crate::error::{Error, Result};
 use crate::math::Rgb;
+use crate::output::Outputs;
 use crate::scene::{Camera, Material, Scene};
 use gltf_json::camera::{Perspective, Type as CameraType};
 use gltf_json::extensions::material::{EmissiveStrength, EmissiveStrengthFactor};
@@ -48,8 +49,22 @@ pub(super) const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
 ///
 /// [`Error::Output`] for an unknown extension or a scene that glTF cannot hold
 /// (a surface referring to a missing object or material, a coordinate beyond the
-/// `f32` range); [`Error::Io`] if the file cannot be written.
+/// `f32` range); [`Error::Io`] if the file cannot be written. The file is
+/// written whole or not at all (see [`crate::output`]): on any error a file
+/// already at `path` is left as it was.
 pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
+    let mut outputs = Outputs::new();
+    stage_scene(&mut outputs, scene, path)?;
+    outputs.commit().map(drop)
+}
+
+/// [`write_scene`] into a caller's set of outputs, renamed into place with the
+/// rest of the set by [`Outputs::commit`].
+///
+/// # Errors
+///
+/// As for [`write_scene`].
+pub fn stage_scene(outputs: &mut Outputs, scene: &Scene, path: &Path) -> Result<()> {
     let binary = is_binary(path)?;
     check_exportable(scene).map_err(|m| output_error(path, m))?;
     let mut root = new_root();
@@ -81,7 +96,7 @@ pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
         scene_nodes,
         geometry.bin,
         &precise,
-        path,
+        (outputs, path),
         binary,
     )?;
     Ok(())
@@ -159,15 +174,15 @@ pub(super) fn export_cameras(
 
 /// Adds the scene (named after `scene`, holding `nodes`) and the buffer `bin`,
 /// writes the numbers of `precise` at full precision over the JSON, and writes
-/// the file as `.glb` or `.gltf` (buffer embedded as a base64 data URI).
-/// Returns the number of bytes written.
+/// the file as `.glb` or `.gltf` (buffer embedded as a base64 data URI) into
+/// the set of outputs. Returns the number of bytes written.
 pub(super) fn finish(
     mut root: Root,
     scene: &Scene,
     nodes: Vec<Index<Node>>,
     bin: Vec<u8>,
     precise: &[(String, Value)],
-    path: &Path,
+    (outputs, path): (&mut Outputs, &Path),
     binary: bool,
 ) -> Result<usize> {
     root.scene = Some(root.push(gltf_json::Scene {
@@ -212,7 +227,7 @@ pub(super) fn finish(
         text.push(b'\n');
         text
     };
-    std::fs::write(path, &bytes).map_err(|e| Error::io(path, e))?;
+    outputs.stage_bytes(path, &bytes)?;
     Ok(bytes.len())
 }
 

@@ -5,9 +5,10 @@ use super::cameras::import_camera;
 use super::container::{read_limited, split};
 use super::document::parse;
 use super::limits::ImportLimits;
-use super::materials::convert_materials;
+use super::materials::{convert_materials, used_materials};
 use super::meshes::{add_mesh_instance, Decoded, Source};
 use super::nodes::walk;
+use super::textures::Images;
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 use std::path::Path;
@@ -25,6 +26,9 @@ use std::path::Path;
 /// - Material `i` of the file is scene material `i` (see the [module docs](super)
 ///   for the conversion); primitives without one get a default grey (0.8) appended
 ///   last. A `doubleSided` material's surfaces are added twice, back to back.
+///   Textures are decoded only for materials some triangle primitive uses, each
+///   image once however many textures show it, and at most
+///   [`ImportLimits::max_texture_pixels`] pixels over the whole file.
 /// - Perspective cameras are imported; orthographic ones are skipped with a warning.
 ///
 /// # Errors
@@ -46,7 +50,17 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
     };
     let doc = parse(path, &container.json, &mut scene.warnings)?;
     let buffers = load_buffers(path, &doc, container.bin, limits)?;
-    scene.materials = convert_materials(path, &doc, &buffers, limits, &mut scene.warnings)?;
+    let placed = walk(path, &doc, limits)?;
+    let mut images = Images::new(&doc, &buffers, path, limits);
+    scene.materials = convert_materials(
+        path,
+        &doc,
+        &used_materials(&doc, &placed),
+        &mut images,
+        &mut scene.warnings,
+    )?;
+    scene.import_stats.images_decoded = images.decodes;
+    scene.import_stats.texture_pixels = images.pixels;
     let source = Source {
         path,
         doc: &doc,
@@ -55,7 +69,7 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
     };
     let mut default_material = None;
     let mut decoded = Decoded::default();
-    for placed in walk(path, &doc, limits)? {
+    for placed in placed {
         let node = &doc.root.nodes[placed.node];
         if let Some(camera) = node.camera {
             match import_camera(&doc, camera.value(), placed.node, &placed.world) {

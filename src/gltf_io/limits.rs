@@ -14,15 +14,17 @@ pub struct ImportLimits {
     /// Largest size in bytes of any one file or buffer read (the scene file,
     /// an external buffer, a decoded data URI, an image).
     pub max_file_bytes: u64,
-    /// Largest base colour or emissive texture, in pixels, that is decoded to take
-    /// its mean colour; larger textures are ignored with a warning.
+    /// Most pixels decoded from the images of one file, all images together
+    /// (each image counts once, however many materials use it). An image that
+    /// would exceed it is not decoded: its textures are ignored with a warning
+    /// naming the image.
     pub max_texture_pixels: u64,
 }
 
 impl Default for ImportLimits {
     /// Generous limits for radiosity scenes, whose cost grows with the square of
     /// the patch count: 2 million triangles, nesting 256 deep, 1 GiB per file,
-    /// 16 megapixel textures.
+    /// 16 megapixels of textures per file.
     fn default() -> Self {
         ImportLimits {
             max_triangles: 2_000_000,

@@ -1,33 +1,55 @@
 //! glTF materials as diffuse materials: reflectance from `baseColorFactor` (times the
 //! mean of its texture, if it decodes), emitted radiance from `emissiveFactor` times
 //! `KHR_materials_emissive_strength` (times the mean of the emissive texture, if it
-//! decodes).
+//! decodes). Textures are decoded only for materials that some triangle primitive
+//! of the imported scene uses.
 
 use super::document::Document;
 use super::gltf_error;
-use super::limits::ImportLimits;
+use super::nodes::Placed;
 use super::precise::{number, numbers};
-use super::textures::mean_linear_colour;
+use super::primitives::triangle_mode;
+use super::textures::{Images, Unusable};
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::scene::Material;
+use gltf_json::validation::Checked;
 use std::path::Path;
 
 /// The reflectance given to primitives without a material.
 pub(super) const DEFAULT_GREY: f64 = 0.8;
 
+/// Which materials of the document some triangle primitive of a placed node's
+/// mesh uses (index `i` for glTF material `i`).
+pub(super) fn used_materials(doc: &Document, placed: &[Placed]) -> Vec<bool> {
+    let mut used = vec![false; doc.root.materials.len()];
+    let meshes = placed
+        .iter()
+        .filter_map(|p| doc.root.nodes[p.node].mesh)
+        .filter_map(|m| doc.root.meshes.get(m.value()));
+    for prim in meshes.flat_map(|m| &m.primitives) {
+        let draws_triangles = matches!(prim.mode, Checked::Valid(m) if triangle_mode(m).is_some());
+        if let (true, Some(m)) = (draws_triangles, prim.material) {
+            if let Some(flag) = used.get_mut(m.value()) {
+                *flag = true;
+            }
+        }
+    }
+    used
+}
+
 /// Every material of the document, in the document's order, so that glTF material
 /// `i` is scene material `i`. A material outside the physical range (reflectance
 /// above 1, negative or non-finite values) is an error naming the material and the
-/// file.
+/// file. The textures of material `i` are decoded (through `images`, once per
+/// image) only when `used[i]`: an unused material keeps its factors alone.
 pub(super) fn convert_materials(
     path: &Path,
     doc: &Document,
-    buffers: &[Vec<u8>],
-    limits: &ImportLimits,
+    used: &[bool],
+    images: &mut Images,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Material>> {
-    let folder = path.parent().unwrap_or(Path::new("."));
     let mut out = Vec::with_capacity(doc.root.materials.len());
     for (i, m) in doc.root.materials.iter().enumerate() {
         let name = match m.name.as_deref() {
@@ -41,12 +63,15 @@ pub(super) fn convert_materials(
         )
         .unwrap_or([1.0; 4]);
         let mut reflectance = Rgb::new(rgba[0], rgba[1], rgba[2]);
-        if let Some(info) = &m.pbr_metallic_roughness.base_color_texture {
-            match mean_linear_colour(doc, buffers, folder, info.index.value(), limits) {
-                Ok(mean) => reflectance = reflectance * mean,
-                Err(why) => warnings.push(format!(
+        let in_use = used.get(i).copied().unwrap_or(false);
+        let base_texture = m.pbr_metallic_roughness.base_color_texture.as_ref();
+        if let Some(info) = base_texture.filter(|_| in_use) {
+            match images.for_texture(info.index.value()) {
+                Ok(image) => reflectance = reflectance * image.mean(),
+                Err(Unusable::Ignored(why)) => warnings.push(format!(
                     "material '{name}': base colour texture ignored ({why}); using baseColorFactor alone"
                 )),
+                Err(Unusable::Refused(e)) => return Err(e),
             }
         }
         let factor = numbers::<3>(&doc.raw, &format!("{base}/emissiveFactor")).unwrap_or([0.0; 3]);
@@ -56,12 +81,13 @@ pub(super) fn convert_materials(
         )
         .unwrap_or(1.0);
         let mut radiance = Rgb(factor) * strength;
-        if let Some(info) = &m.emissive_texture {
-            match mean_linear_colour(doc, buffers, folder, info.index.value(), limits) {
-                Ok(mean) => radiance = radiance * mean,
-                Err(why) => warnings.push(format!(
+        if let Some(info) = m.emissive_texture.as_ref().filter(|_| in_use) {
+            match images.for_texture(info.index.value()) {
+                Ok(image) => radiance = radiance * image.mean(),
+                Err(Unusable::Ignored(why)) => warnings.push(format!(
                     "material '{name}': emissive texture ignored ({why}); using emissiveFactor alone"
                 )),
+                Err(Unusable::Refused(e)) => return Err(e),
             }
         }
         let mut material = Material::from_radiance(&name, reflectance, radiance)

@@ -11,7 +11,7 @@ use super::primitives::{triangle_count, triangle_mode, triangles};
 use super::quad_merge::{merge_into_quads, Triangle};
 use super::{describe, gltf_error};
 use crate::error::{Error, Result};
-use crate::scene::{Object, Scene, Surface};
+use crate::scene::{Object, Scene, Surface, MAX_COORDINATE};
 use glam::{DMat3, DVec3};
 use gltf_json::mesh::{Mode, Semantic};
 use gltf_json::validation::Checked;
@@ -93,6 +93,7 @@ pub(super) fn add_mesh_instance(
         .get(mesh_index)
         .ok_or_else(|| gltf_error(src.path, format!("mesh {mesh_index} does not exist")))?;
     let mesh_name = describe("mesh", mesh_index, mesh.name.as_deref());
+    let node_name = describe("node", placed.node, node.name.as_deref());
     let object_name = [node.name.as_deref(), mesh.name.as_deref()]
         .into_iter()
         .flatten()
@@ -148,6 +149,7 @@ pub(super) fn add_mesh_instance(
             mode,
             &here,
             &placed.world,
+            &node_name,
             mirrored,
             scene,
         )?;
@@ -210,6 +212,7 @@ fn primitive_triangles(
     mode: Mode,
     here: &str,
     world: &glam::DMat4,
+    node_name: &str,
     mirrored: bool,
     scene: &mut Scene,
 ) -> Result<Vec<Triangle>> {
@@ -267,6 +270,16 @@ fn primitive_triangles(
     if let Some(k) = world_positions.iter().position(|p| !p.is_finite()) {
         return Err(fail(format!(
             "vertex {k} leaves the range of double precision when transformed to world space"
+        )));
+    }
+    if let Some(k) = world_positions
+        .iter()
+        .position(|p| p.abs().max_element() > MAX_COORDINATE)
+    {
+        return Err(fail(format!(
+            "placed by {node_name}, vertex {k} lies at {:?} in world space, beyond +-{MAX_COORDINATE:e} m, \
+             the largest coordinate the solver represents (its ray casting is single precision)",
+            world_positions[k].to_array()
         )));
     }
     Ok(triangles(mode, stream_len)

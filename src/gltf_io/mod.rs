@@ -41,12 +41,13 @@ mod quad_merge;
 mod textures;
 mod uri;
 
-pub use bake::{write_baked, BakeSummary};
+pub use bake::{stage_baked, write_baked, BakeSummary};
 pub use bake_colour::BakeColour;
 pub use baked::{load_baked, BakedScene};
-pub use export::write_scene;
+pub use export::{stage_scene, write_scene};
 pub use import::load_scene;
 pub use limits::ImportLimits;
+pub use textures::LinearImage;
 
 use crate::error::Error;
 use std::path::Path;

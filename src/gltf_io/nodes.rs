@@ -115,7 +115,16 @@ fn local_transform(doc: &Document, n: usize) -> std::result::Result<DMat4, Strin
     let m = if node.matrix.is_some() {
         let a = numbers::<16>(&doc.raw, &format!("{base}/matrix"))
             .ok_or("its matrix is not 16 numbers")?;
-        // glTF matrices are column-major, like glam's.
+        // glTF matrices are column-major, like glam's: the bottom row is
+        // elements 3, 7, 11 and 15.
+        let bottom = [a[3], a[7], a[11], a[15]];
+        if bottom != [0.0, 0.0, 0.0, 1.0] {
+            return Err(format!(
+                "its matrix has the bottom row {bottom:?}, not [0, 0, 0, 1]: glTF node \
+                 matrices must be affine (decomposable into translation, rotation and scale), \
+                 and this one is projective"
+            ));
+        }
         DMat4::from_cols_array(&a)
     } else {
         let t = numbers::<3>(&doc.raw, &format!("{base}/translation")).unwrap_or([0.0; 3]);

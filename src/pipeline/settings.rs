@@ -85,6 +85,9 @@ impl Settings {
             }
         }
         let s = &self.solver;
+        if s.max_iterations == 0 {
+            return bad("max-iterations", "must be at least 1".to_string());
+        }
         if !(s.tolerance.is_finite() && s.tolerance > 0.0) {
             return bad(
                 "tolerance",

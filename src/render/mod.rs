@@ -13,7 +13,10 @@
 //!   preview.
 //! - [`false_colour`]: luminance shown on a colour ramp with a labelled legend.
 //! - [`diff`]: error metrics between two images.
-//! - [`write_exr`], [`write_hdr`], [`write_png`], [`read_hdr_image`]: files.
+//! - [`write_exr`], [`write_hdr`], [`write_png`], [`write_rgb8_png`],
+//!   [`read_hdr_image`]: files, each written whole or not at all; the `stage_*`
+//!   forms add a file to a caller's [`Outputs`](crate::output::Outputs), so that
+//!   all the files of one run replace their targets together.
 //!
 //! ## Conventions
 //!
@@ -48,4 +51,7 @@ pub use shaded_mesh::ShadedMesh;
 pub use tonemap::{
     auto_exposure, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET,
 };
-pub use write::{read_hdr_image, write_exr, write_hdr, write_png};
+pub use write::{
+    read_hdr_image, stage_exr, stage_hdr, stage_png, stage_rgb8_png, write_exr, write_hdr,
+    write_png, write_rgb8_png,
+};

@@ -2,42 +2,103 @@
 //! the HDR formats back.
 
 use super::{to_srgb8, HdrImage, ToneMap};
+use crate::input::open_regular;
 use crate::math::Rgb;
+use crate::output::{write_file, Outputs, WriteSeek};
 use crate::{Error, Result};
-use image::{DynamicImage, ImageError, ImageFormat, Rgb32FImage};
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use image::{DynamicImage, ImageError, ImageFormat, Rgb32FImage, RgbImage};
+use std::io::BufReader;
 use std::path::Path;
 
-/// Writes `img` as an OpenEXR file of 32-bit float linear RGB.
+/// Writes `img` as an OpenEXR file of 32-bit float linear RGB, whole or not
+/// at all (see [`crate::output`]).
 pub fn write_exr(img: &HdrImage, path: &Path) -> Result<()> {
+    let mut outputs = Outputs::new();
+    stage_exr(&mut outputs, img, path)?;
+    outputs.commit().map(drop)
+}
+
+/// [`write_exr`] into a caller's set of outputs, renamed into place with the
+/// rest of the set by [`Outputs::commit`].
+pub fn stage_exr(outputs: &mut Outputs, img: &HdrImage, path: &Path) -> Result<()> {
     let buffer = to_f32_buffer(img, path)?;
-    encode(
-        path,
-        &DynamicImage::ImageRgb32F(buffer),
-        ImageFormat::OpenExr,
-    )
+    outputs.stage(path, |w| {
+        encode(
+            path,
+            w,
+            &DynamicImage::ImageRgb32F(buffer),
+            ImageFormat::OpenExr,
+        )
+    })
 }
 
 /// Writes `img` as a Radiance RGBE (`.hdr`) file: linear RGB with an 8-bit
-/// mantissa per channel and a shared exponent.
+/// mantissa per channel and a shared exponent; whole or not at all.
 pub fn write_hdr(img: &HdrImage, path: &Path) -> Result<()> {
-    let buffer = to_f32_buffer(img, path)?;
-    encode(path, &DynamicImage::ImageRgb32F(buffer), ImageFormat::Hdr)
+    let mut outputs = Outputs::new();
+    stage_hdr(&mut outputs, img, path)?;
+    outputs.commit().map(drop)
 }
 
-/// Writes an 8-bit sRGB PNG of `img` through [`to_srgb8`].
+/// [`write_hdr`] into a caller's set of outputs.
+pub fn stage_hdr(outputs: &mut Outputs, img: &HdrImage, path: &Path) -> Result<()> {
+    let buffer = to_f32_buffer(img, path)?;
+    outputs.stage(path, |w| {
+        encode(
+            path,
+            w,
+            &DynamicImage::ImageRgb32F(buffer),
+            ImageFormat::Hdr,
+        )
+    })
+}
+
+/// Writes an 8-bit sRGB PNG of `img` through [`to_srgb8`], whole or not at
+/// all.
 pub fn write_png(img: &HdrImage, path: &Path, exposure_stops: f64, tone: ToneMap) -> Result<()> {
+    let mut outputs = Outputs::new();
+    stage_png(&mut outputs, img, path, exposure_stops, tone)?;
+    outputs.commit().map(drop)
+}
+
+/// [`write_png`] into a caller's set of outputs.
+pub fn stage_png(
+    outputs: &mut Outputs,
+    img: &HdrImage,
+    path: &Path,
+    exposure_stops: f64,
+    tone: ToneMap,
+) -> Result<()> {
     check_size(img, path)?;
     let rgb = to_srgb8(img, exposure_stops, tone);
-    encode(path, &DynamicImage::ImageRgb8(rgb), ImageFormat::Png)
+    outputs.stage(path, |w| {
+        encode(path, w, &DynamicImage::ImageRgb8(rgb), ImageFormat::Png)
+    })
+}
+
+/// Writes an 8-bit RGB image (already in display colours, such as a
+/// [`false_colour`](super::false_colour) picture) as a PNG, whole or not at
+/// all.
+pub fn write_rgb8_png(rgb: &RgbImage, path: &Path) -> Result<()> {
+    write_file(path, |w| rgb8_png(rgb, path, w))
+}
+
+/// [`write_rgb8_png`] into a caller's set of outputs.
+pub fn stage_rgb8_png(outputs: &mut Outputs, rgb: &RgbImage, path: &Path) -> Result<()> {
+    outputs.stage(path, |w| rgb8_png(rgb, path, w))
+}
+
+fn rgb8_png(rgb: &RgbImage, path: &Path, w: &mut dyn WriteSeek) -> Result<()> {
+    rgb.write_to(&mut &mut *w, ImageFormat::Png)
+        .map_err(|e| image_error(path, e))
 }
 
 /// Reads an OpenEXR or Radiance HDR file (recognised by its content) into a
 /// linear image. An alpha channel, if any, is dropped.
 pub fn read_hdr_image(path: &Path) -> Result<HdrImage> {
-    let decoded = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
+    let file = open_regular(path)?;
+    let decoded = image::ImageReader::new(BufReader::new(file))
+        .with_guessed_format()
         .map_err(|e| Error::io(path, e))?
         .decode()
         .map_err(|e| match e {
@@ -81,19 +142,24 @@ fn to_f32_buffer(img: &HdrImage, path: &Path) -> Result<Rgb32FImage> {
     })
 }
 
-/// Creates the parent folder if needed, then encodes `image` into `path`.
-fn encode(path: &Path, image: &DynamicImage, format: ImageFormat) -> Result<()> {
-    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
-    }
-    let file = File::create(path).map_err(|e| Error::io(path, e))?;
-    let mut writer = BufWriter::new(file);
-    image.write_to(&mut writer, format).map_err(|e| match e {
+/// Encodes `image` into the writer of a staged output file.
+fn encode(
+    path: &Path,
+    w: &mut dyn WriteSeek,
+    image: &DynamicImage,
+    format: ImageFormat,
+) -> Result<()> {
+    image
+        .write_to(&mut &mut *w, format)
+        .map_err(|e| image_error(path, e))
+}
+
+fn image_error(path: &Path, e: ImageError) -> Error {
+    match e {
         ImageError::IoError(io) => Error::io(path, io),
         other => Error::Output {
             path: path.to_path_buf(),
             message: other.to_string(),
         },
-    })?;
-    writer.flush().map_err(|e| Error::io(path, e))
+    }
 }

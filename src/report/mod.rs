@@ -63,7 +63,7 @@ pub use metrics::{
 };
 pub use objects::{object_errors, object_reference, ObjectError, ObjectReference};
 pub use plan::{SweepPlan, DEFAULT_UNSHOT_FRACTIONS};
-pub use plot::{write_depth_plot, write_time_plot};
+pub use plot::{stage_depth_plot, stage_time_plot, write_depth_plot, write_time_plot};
 pub use points::floor_points;
 pub use reference_points::{MonteCarloPoints, ReferenceKind, ReferencePoint, ReferencePoints};
 pub use sweep::{run_sweep, RunRecord, SweepEvent};

@@ -4,6 +4,7 @@
 use super::plot_style::{colour, ensure_font, CAPTION_SIZE, FONT, LABEL_SIZE, TICK_SIZE};
 use super::{ErrorMetric, Method, RunRecord};
 use crate::error::{Error, Result};
+use crate::output::Outputs;
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -29,9 +30,22 @@ struct Panel {
 
 /// Draws the error of every run against its seconds, log-log, one curve per
 /// method: the mean error in the left panel, the largest in the right. Writes
-/// `svg` and `png`. Runs with a zero error (which a log axis cannot show) are
-/// left out of the curves.
+/// `svg` and `png`, both or neither (see [`crate::output`]). Runs with a zero
+/// error (which a log axis cannot show) are left out of the curves.
 pub fn write_time_plot(scene: &str, records: &[RunRecord], svg: &Path, png: &Path) -> Result<()> {
+    let mut outputs = Outputs::new();
+    stage_time_plot(&mut outputs, scene, records, svg, png)?;
+    outputs.commit().map(drop)
+}
+
+/// [`write_time_plot`] into a caller's set of outputs.
+pub fn stage_time_plot(
+    outputs: &mut Outputs,
+    scene: &str,
+    records: &[RunRecord],
+    svg: &Path,
+    png: &Path,
+) -> Result<()> {
     let panels: Vec<Panel> = [ErrorMetric::Mean, ErrorMetric::Max]
         .into_iter()
         .map(|metric| Panel {
@@ -55,15 +69,30 @@ pub fn write_time_plot(scene: &str, records: &[RunRecord], svg: &Path, png: &Pat
             legend: SeriesLabelPosition::LowerLeft,
         })
         .collect();
-    write_figure(&panels, (1400, 600), svg, png, true)
+    write_figure(outputs, &panels, (1400, 600), (svg, png), true)
 }
 
 /// Draws mean and largest error against uniform subdivision depth (the
 /// [`Method::Uniform`] runs), and the [`Method::Patches`] runs at the depth
 /// whose elements are as large as their patches (`log2(base_patch_size /
-/// patch size)`). Writes `svg` and `png` and returns `true`, or writes nothing
-/// and returns `false` when there are no such runs.
+/// patch size)`). Writes `svg` and `png` (both or neither) and returns `true`,
+/// or writes nothing and returns `false` when there are no such runs.
 pub fn write_depth_plot(
+    scene: &str,
+    records: &[RunRecord],
+    base_patch_size: f64,
+    svg: &Path,
+    png: &Path,
+) -> Result<bool> {
+    let mut outputs = Outputs::new();
+    let drawn = stage_depth_plot(&mut outputs, scene, records, base_patch_size, svg, png)?;
+    outputs.commit()?;
+    Ok(drawn)
+}
+
+/// [`write_depth_plot`] into a caller's set of outputs.
+pub fn stage_depth_plot(
+    outputs: &mut Outputs,
     scene: &str,
     records: &[RunRecord],
     base_patch_size: f64,
@@ -105,7 +134,7 @@ pub fn write_depth_plot(
         // The largest errors start high on the left and fall to the right.
         legend: SeriesLabelPosition::UpperRight,
     };
-    write_figure(&[panel], (900, 600), svg, png, false)?;
+    write_figure(outputs, &[panel], (900, 600), (svg, png), false)?;
     Ok(true)
 }
 
@@ -116,12 +145,13 @@ fn methods_present(records: &[RunRecord]) -> Vec<Method> {
         .collect()
 }
 
-/// Draws the panels side by side into an SVG file and a PNG file.
+/// Draws the panels side by side into an SVG file and a PNG file, staged in
+/// `outputs`.
 fn write_figure(
+    outputs: &mut Outputs,
     panels: &[Panel],
     size: (u32, u32),
-    svg: &Path,
-    png: &Path,
+    (svg, png): (&Path, &Path),
     log_x: bool,
 ) -> Result<()> {
     ensure_font(svg)?;
@@ -129,11 +159,13 @@ fn write_figure(
         let path = path.to_path_buf();
         move |message: String| Error::Output { path, message }
     };
+    let mut svg_text = String::new();
     {
-        let root = SVGBackend::new(svg, size).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg_text, size).into_drawing_area();
         draw_panels(&root, panels, log_x).map_err(failed(svg))?;
         root.present().map_err(|e| failed(svg)(e.to_string()))?;
     }
+    outputs.stage_bytes(svg, svg_text.as_bytes())?;
     let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
@@ -142,9 +174,7 @@ fn write_figure(
     }
     let image = image::RgbImage::from_raw(size.0, size.1, pixels)
         .ok_or_else(|| failed(png)("the bitmap has the wrong size".into()))?;
-    image
-        .save_with_format(png, image::ImageFormat::Png)
-        .map_err(|e| failed(png)(e.to_string()))
+    crate::render::stage_rgb8_png(outputs, &image, png)
 }
 
 fn draw_panels<DB: DrawingBackend>(

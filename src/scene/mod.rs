@@ -12,7 +12,7 @@ pub use camera::Camera;
 pub use material::Material;
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::COPLANAR_GAP;
-pub use surface::Surface;
+pub use surface::{Surface, MAX_COORDINATE};
 
 use glam::DVec3;
 use serde::Serialize;
@@ -36,6 +36,11 @@ pub struct ImportStats {
     pub merged_quads: usize,
     /// Primitives of point or line modes, skipped.
     pub skipped_primitives: usize,
+    /// Images read and decoded for textures (each at most once per file).
+    pub images_decoded: usize,
+    /// Pixels of those images, counted against
+    /// [`ImportLimits::max_texture_pixels`](crate::gltf_io::ImportLimits::max_texture_pixels).
+    pub texture_pixels: u64,
 }
 
 /// A scene ready to mesh: every surface is a planar triangle or convex quad, front

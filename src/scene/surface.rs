@@ -9,6 +9,16 @@ use smallvec::SmallVec;
 /// (the builder splits such quads into two triangles instead).
 pub(super) const PLANARITY_TOLERANCE: f64 = 1e-6;
 
+/// The largest coordinate magnitude, in metres, a surface may have.
+///
+/// The geometry is kept in `f64`, but ray casting runs its broad phase on a
+/// single-precision BVH, whose builder computes box areas (products of two
+/// extents) in `f32`: coordinates near `sqrt(f32::MAX)` ~ 1.8e19 overflow it to
+/// infinity and the builder fails. 1e15 m (a tenth of a light year) keeps those
+/// products below 1e31, seven orders of magnitude inside `f32`, and is beyond
+/// any scene the radiosity method is used for.
+pub const MAX_COORDINATE: f64 = 1e15;
+
 /// A planar triangle or convex quad. Vertices run counter-clockwise seen from the
 /// front, which is the side the unit `normal` points to. Only the front emits and
 /// reflects; the back blocks light.
@@ -27,8 +37,8 @@ pub struct Surface {
 }
 
 impl Surface {
-    /// A surface from 3 or 4 vertices. Fails on non-finite coordinates, zero area,
-    /// a non-planar or non-convex quad.
+    /// A surface from 3 or 4 vertices. Fails on non-finite coordinates or ones
+    /// beyond [`MAX_COORDINATE`], zero area, a non-planar or non-convex quad.
     pub fn new(vertices: &[DVec3], material: u32, object: u32) -> Result<Self> {
         if !(3..=4).contains(&vertices.len()) {
             return Err(Error::Geometry(format!(
@@ -39,6 +49,15 @@ impl Surface {
         if vertices.iter().any(|v| !v.is_finite()) {
             return Err(Error::Geometry(format!(
                 "non-finite vertex in {vertices:?}"
+            )));
+        }
+        if vertices
+            .iter()
+            .any(|v| v.abs().max_element() > MAX_COORDINATE)
+        {
+            return Err(Error::Geometry(format!(
+                "vertex beyond +-{MAX_COORDINATE:e} m (the largest coordinate the solver \
+                 represents) in {vertices:?}"
             )));
         }
         let n = newell_normal(vertices);
