@@ -3,14 +3,65 @@
 //! Diffuse global illumination by the radiosity method (Greenberg, Cohen, Torrance
 //! 1986), with hemi-cube form factors (Cohen & Greenberg 1985) and substructuring
 //! with adaptive quadtree subdivision (Cohen, Greenberg, Immel, Brock 1986).
+//! One solution is view independent: images from any camera come from the same
+//! element and vertex radiosities.
+//!
+//! ## Embedding it
+//!
+//! Load a glTF scene, solve it, read each object's light and draw one view:
+//!
+//! ```
+//! use radiosity::{gltf_io, render, Settings};
+//! # fn main() -> radiosity::Result<()> {
+//! let scene = gltf_io::load_scene("scenes/cornell_box.gltf".as_ref(), &Default::default())?;
+//! let solution = radiosity::solve(&scene, &Settings::default(), &|_progress| {})?;
+//! for object in solution.object_radiosity(&scene) {
+//!     println!("{}: radiance {:?} per band", object.name, object.radiance().0);
+//! }
+//! let image = render::render(&solution.radiance_mesh(), &scene.cameras[0], 160, 120)?;
+//! let tone = render::ToneMap::default();
+//! let stops = render::auto_exposure(&image, tone);
+//! render::write_png(&image, &std::env::temp_dir().join("cornell.png"), stops, tone)?;
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! Units are the scene's: glTF metres, emitted radiance in the materials'
+//! units; radiosity (exitance) is pi times radiance. The library never prints:
+//! progress comes through the callback, figures through
+//! [`Solution::stats`]. The `cli` feature (on by default) adds the
+//! command-line tool and the time-versus-error reports ([`report`]); build with
+//! `default-features = false` for the library alone.
 //!
 //! ## Brief overview
 //!
 //! The pipeline runs one way, one module per stage:
 //!
 //! - [`scene`]: a [`scene::Scene`] of planar surfaces with diffuse materials,
-//!   imported from glTF ([`gltf_io`]) or built in code ([`scene::SceneBuilder`],
-//!   [`scenes`]).
+//!   imported from glTF ([`gltf_io`]; files read through [`input`]) or built in
+//!   code ([`scene::SceneBuilder`], the built-in [`scenes`]); overlapping
+//!   coplanar surfaces are checked there.
+//! - [`mesh`]: surfaces cut into patches, each the root of an element quadtree
+//!   ([`mesh::Mesh`]): geometry and topology only.
+//! - [`formfactor`]: element-to-patch rows from hemi-cubes with an item buffer,
+//!   Lambert's exact formula for the magnitude of what is seen and exact
+//!   visibility of emitters; kept per element in a [`formfactor::FormFactors`]
+//!   store with the state of each row.
+//! - [`solve`]: the patch system assembled from the rows, solved by
+//!   Gauss-Seidel ([`solve::gauss_seidel`]) or by progressive shooting
+//!   ([`solve::progressive`]), and the gather to elements; the result is a
+//!   [`solve::Radiosity`] per element and patch.
+//! - [`refine`]: where to split elements (neighbour differences) and sources.
+//! - [`pipeline`]: the one driver of both solvers: [`Settings`], checks before
+//!   any form factor, meshing, refinement passes, progress and the figures of
+//!   a run ([`pipeline::SolveStats`]).
+//! - [`solution`]: what a solve gives: [`Solution`], per-object means, leaf
+//!   views, radiosity at points, the display mesh.
+//! - [`render`]: images from any camera, tone mapping, HDR and PNG files;
+//!   [`output`] writes every file whole or not at all.
+//! - [`reference`]: a path tracer independent of all the above, for ground
+//!   truth; [`analytic`]: exact form factors and solutions for tests.
+//! - [`math`]: colour triples and polygon helpers; [`error`]: the error type.
 #![warn(missing_docs, unreachable_pub)]
 
 pub mod analytic;

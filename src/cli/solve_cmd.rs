@@ -228,7 +228,7 @@ fn run_in_pool(
         .collect();
 
     let t = Instant::now();
-    let mesh = radiance_mesh(&solution);
+    let mesh = solution.radiance_mesh();
     let segments = if a.mesh_out.is_some() {
         solution.mesh().leaf_edges()
     } else {
@@ -314,21 +314,6 @@ fn run_in_pool(
     Ok(())
 }
 
-/// The solution's display mesh with radiance (radiosity / pi) per vertex, as
-/// the renderer takes it.
-pub fn radiance_mesh(solution: &radiosity::Solution) -> ShadedMesh {
-    let shading = solution.shading_mesh();
-    ShadedMesh {
-        positions: shading.positions,
-        values: shading
-            .radiosity
-            .iter()
-            .map(|b| *b / std::f64::consts::PI)
-            .collect(),
-        triangles: shading.triangles,
-    }
-}
-
 /// Writes the previews of a progressive solve: the first view, with the
 /// ambient term, at one exposure for all (the first preview's unless
 /// `--exposure` is given) so that they show the image filling in. Each is
@@ -355,16 +340,7 @@ impl PreviewWriter<'_> {
     }
 
     fn try_write(&mut self, p: &Preview<'_>) -> Result<()> {
-        let shading = p.shading_mesh(true);
-        let mesh = ShadedMesh {
-            positions: shading.positions,
-            values: shading
-                .radiosity
-                .iter()
-                .map(|b| *b / std::f64::consts::PI)
-                .collect(),
-            triangles: shading.triangles,
-        };
+        let mesh = ShadedMesh::radiance_of(p.shading_mesh(true));
         let (image, _) = render::render_with_depth(
             &mesh,
             self.camera,

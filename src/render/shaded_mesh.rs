@@ -1,8 +1,10 @@
 //! The renderer's input: triangles carrying one radiance per vertex.
 
 use crate::math::Rgb;
+use crate::mesh::ShadingMesh;
 use crate::{Error, Result};
 use glam::DVec3;
+use std::f64::consts::PI;
 
 /// A triangle mesh with one linear RGB value per vertex, ready to render.
 ///
@@ -20,6 +22,17 @@ pub struct ShadedMesh {
 }
 
 impl ShadedMesh {
+    /// The radiance of a display mesh's vertex radiosities: radiosity / pi,
+    /// what a camera sees on a diffuse surface.
+    #[must_use]
+    pub fn radiance_of(shading: ShadingMesh) -> ShadedMesh {
+        ShadedMesh {
+            positions: shading.positions,
+            values: shading.radiosity.iter().map(|b| *b / PI).collect(),
+            triangles: shading.triangles,
+        }
+    }
+
     /// Checks that there is one value per position, that every index is in
     /// range, and that positions and values are finite. The error names the
     /// first offending vertex or triangle.

@@ -8,7 +8,7 @@ use std::fmt;
 use std::str::FromStr;
 
 /// How linear values above display white are brought into `[0, 1]`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum ToneMap {
     /// Values above 1 are clipped to 1 (`"clamp"`).
     #[serde(rename = "clamp")]
@@ -19,6 +19,7 @@ pub enum ToneMap {
     /// Stephen Hill's fit of the ACES reference rendering and output
     /// transforms, with its sRGB-to-ACES input and output matrices (`"aces"`).
     #[serde(rename = "aces")]
+    #[default]
     AcesFitted,
 }
 

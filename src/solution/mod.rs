@@ -6,6 +6,7 @@ mod objects;
 mod probe;
 
 pub use leaf::Leaf;
+pub(crate) use objects::object_means;
 pub use objects::ObjectRadiosity;
 pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
 
@@ -13,6 +14,7 @@ use crate::formfactor::FormFactors;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh, ShadingMesh};
 use crate::pipeline::SolveStats;
+use crate::render::ShadedMesh;
 use crate::scene::Scene;
 use crate::solve::{PatchSystem, Radiosity};
 
@@ -91,22 +93,7 @@ impl Solution {
     /// Area-weighted mean radiosity of every object of `scene`, from the leaves.
     #[must_use]
     pub fn object_radiosity(&self, scene: &Scene) -> Vec<ObjectRadiosity> {
-        let mut sums = vec![(0.0, Rgb::ZERO); scene.objects.len()];
-        for (k, e) in self.mesh.elements.iter().filter(|(_, e)| e.is_leaf()) {
-            let o = self.mesh.surfaces[e.surface as usize].object as usize;
-            sums[o].0 += e.area;
-            sums[o].1 += self.radiosity.element(k) * e.area;
-        }
-        scene
-            .objects
-            .iter()
-            .zip(sums)
-            .map(|(obj, (area, sum))| ObjectRadiosity {
-                name: obj.name.clone(),
-                area,
-                radiosity: if area > 0.0 { sum / area } else { Rgb::ZERO },
-            })
-            .collect()
+        object_means(scene, &self.mesh, |k, _| self.radiosity.element(k))
     }
 
     /// The crack-free display mesh with vertex radiosities.
@@ -114,5 +101,13 @@ impl Solution {
     pub fn shading_mesh(&self) -> ShadingMesh {
         let vr = self.mesh.vertex_radiosity(|k| self.radiosity.element(k));
         self.mesh.shading_mesh(&vr)
+    }
+
+    /// The display mesh with the radiance a camera sees at each vertex
+    /// (radiosity / pi: the surfaces are diffuse), ready for
+    /// [`render::render`](crate::render::render).
+    #[must_use]
+    pub fn radiance_mesh(&self) -> ShadedMesh {
+        ShadedMesh::radiance_of(self.shading_mesh())
     }
 }

@@ -1,6 +1,8 @@
 //! Per-object figures: what users compare against references.
 
 use crate::math::Rgb;
+use crate::mesh::{ElementKey, Mesh, SurfaceLattice};
+use crate::scene::Scene;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -22,4 +24,30 @@ impl ObjectRadiosity {
     pub fn radiance(&self) -> Rgb {
         self.radiosity / PI
     }
+}
+
+/// The area-weighted mean over the leaves of each object of `scene` of
+/// `value(leaf, its surface)`.
+pub(crate) fn object_means(
+    scene: &Scene,
+    mesh: &Mesh,
+    value: impl Fn(ElementKey, &SurfaceLattice) -> Rgb,
+) -> Vec<ObjectRadiosity> {
+    let mut sums = vec![(0.0, Rgb::ZERO); scene.objects.len()];
+    for (k, e) in mesh.elements.iter().filter(|(_, e)| e.is_leaf()) {
+        let surface = &mesh.surfaces[e.surface as usize];
+        let slot = &mut sums[surface.object as usize];
+        slot.0 += e.area;
+        slot.1 += value(k, surface) * e.area;
+    }
+    scene
+        .objects
+        .iter()
+        .zip(sums)
+        .map(|(obj, (area, sum))| ObjectRadiosity {
+            name: obj.name.clone(),
+            area,
+            radiosity: if area > 0.0 { sum / area } else { Rgb::ZERO },
+        })
+        .collect()
 }

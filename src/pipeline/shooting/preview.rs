@@ -3,7 +3,7 @@
 use crate::math::Rgb;
 use crate::mesh::{Mesh, ShadingMesh};
 use crate::scene::Scene;
-use crate::solution::ObjectRadiosity;
+use crate::solution::{object_means, ObjectRadiosity};
 use crate::solve::Radiosity;
 
 /// A look at a progressive solve under way, handed to the preview callback.
@@ -47,22 +47,8 @@ impl Preview<'_> {
         } else {
             Rgb::ZERO
         };
-        let mut sums = vec![(0.0, Rgb::ZERO); scene.objects.len()];
-        for (k, e) in self.mesh.elements.iter().filter(|(_, e)| e.is_leaf()) {
-            let s = &self.mesh.surfaces[e.surface as usize];
-            let slot = &mut sums[s.object as usize];
-            slot.0 += e.area;
-            slot.1 += (self.radiosity.element(k) + s.reflectance * ambient) * e.area;
-        }
-        scene
-            .objects
-            .iter()
-            .zip(sums)
-            .map(|(obj, (area, sum))| ObjectRadiosity {
-                name: obj.name.clone(),
-                area,
-                radiosity: if area > 0.0 { sum / area } else { Rgb::ZERO },
-            })
-            .collect()
+        object_means(scene, self.mesh, |k, surface| {
+            self.radiosity.element(k) + surface.reflectance * ambient
+        })
     }
 }
