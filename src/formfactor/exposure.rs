@@ -122,6 +122,7 @@ mod tests {
             surface,
             centre,
             radius: half * 2f64.sqrt(),
+            patch: 0,
         }
     }
 
@@ -134,10 +135,7 @@ mod tests {
         for (i, n) in faces.into_iter().enumerate() {
             polygons.push(square(c + n * 0.5, 0.5, n, i as u32 + 1));
         }
-        Sources {
-            polygons,
-            emitters: Vec::new(),
-        }
+        Sources::one_per_patch(polygons)
     }
 
     #[test]
@@ -164,8 +162,7 @@ mod tests {
     fn a_point_under_a_lid_is_not_shut_in_if_one_ray_gets_out() {
         // A downward-facing lid (its back face up, toward the inside) over a
         // floor point, open at the sides: the rays out sideways escape.
-        let mut sources = box_on_floor();
-        sources.polygons.truncate(2);
+        let sources = Sources::one_per_patch(box_on_floor().polygons[..2].to_vec());
         let occluders = Occluders::new(&sources);
         let eye = DVec3::new(0.0, 0.0, 1e-7);
         assert!(!occluders.is_shut_in(&sources, eye, DVec3::Z, 0));

@@ -2,6 +2,7 @@
 //! the sparse rows it produces, and the source polygons it rasterizes.
 
 mod backfaces;
+mod bvh_walk;
 mod exposure;
 mod eye;
 pub mod hemicube;

@@ -8,6 +8,7 @@
 //! the point onto the light's plane, and cut out of the light; what remains is
 //! a set of convex pieces whose form factors Lambert's contour formula gives.
 
+use super::bvh_walk::box_below;
 use super::point_to_polygon;
 use crate::math::{clip_in_place, clip_to_halfspace};
 use glam::DVec3;
@@ -97,6 +98,21 @@ impl<'a> Shaft<'a> {
             || self.horizon.dot(centre - self.eye) < -r
             || self.sides.iter().any(|n| n.dot(centre - self.eye) < -r)
             || toward_eye.dot(centre - self.eye) > r
+    }
+
+    /// True when the box (`lo`, `hi`) lies wholly outside one of the planes
+    /// [`Self::shadow_of`] clips to, so that nothing in it hides anything:
+    /// the same rule as [`Self::misses`], for a BVH node.
+    pub(super) fn misses_box(&self, lo: DVec3, hi: DVec3) -> bool {
+        let r = 1e-12 * self.eye_height.abs();
+        let toward_eye = self.light_normal * self.eye_height.signum();
+        box_below(lo, hi, self.light[0], toward_eye, r)
+            || box_below(lo, hi, self.eye, self.horizon, r)
+            || self
+                .sides
+                .iter()
+                .any(|n| box_below(lo, hi, self.eye, *n, r))
+            || box_below(lo, hi, self.eye, -toward_eye, r)
     }
 
     /// The part of the light that `occluder` hides, as a convex polygon in the

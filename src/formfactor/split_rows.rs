@@ -122,7 +122,7 @@ fn derived_row(
             return Update::Anew;
         }
         for &c in &split.children {
-            let poly = &sources.polygons[c as usize];
+            let poly = &sources.patch(c)[0];
             let exact = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
             if exact > 0.0 {
                 entries.push((c, exact as f32));
@@ -175,7 +175,7 @@ mod tests {
         let mut splits = Vec::new();
         for p in picks {
             let polygon = mesh.patches[p as usize].polygon.clone();
-            store.forget(mesh.patches[p as usize].root);
+            store.forget(mesh.patches[p as usize].roots[0]);
             let children = mesh.split_patch(p);
             splits.push(SplitPatch {
                 old: p,
@@ -247,7 +247,7 @@ mod tests {
             .collect();
         assert!(saw_light.len() > 100);
         let polygon = mesh.patches[light as usize].polygon.clone();
-        store.forget(mesh.patches[light as usize].root);
+        store.forget(mesh.patches[light as usize].roots[0]);
         let children = mesh.split_patch(light);
         let splits = [SplitPatch {
             old: light,

@@ -70,13 +70,21 @@ pub(crate) fn unoccluded_row(
     own_surface: u32,
 ) -> Row {
     let mut entries: Vec<(u32, f64)> = Vec::new();
-    for (id, poly) in sources.polygons.iter().enumerate() {
-        if poly.surface == own_surface || (poly.centre - eye).dot(normal) < -poly.radius {
-            continue;
+    for p in 0..sources.patch_count() as u32 {
+        let polygons = sources.patch(p);
+        let cluster = polygons.len() > 1;
+        let mut f = 0.0;
+        for poly in polygons {
+            if poly.surface == own_surface
+                || (poly.centre - eye).dot(normal) < -poly.radius
+                || (cluster && !poly.faces(eye))
+            {
+                continue;
+            }
+            f += point_to_polygon(eye, normal, poly.corners());
         }
-        let f = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
         if f > 0.0 {
-            entries.push((id as u32, f));
+            entries.push((p, f));
         }
     }
     let sum: f64 = entries.iter().map(|e| e.1).sum();

@@ -10,6 +10,7 @@
 //! form-factor kernel. Rays go through a BVH (the `obvhs` crate) over the patch
 //! polygons; every hit is decided in double precision against the polygon.
 
+use super::bvh_walk::walk;
 use super::shaft::{pieces_form_factor, sliver_area, subtract, Piece, Shaft, MAX_OCCLUDERS};
 use super::{point_to_polygon, Sources};
 use glam::DVec3;
@@ -204,39 +205,32 @@ impl Occluders {
             return Some(0.0);
         }
         let shaft = Shaft::new(eye, normal, light, poly.normal)?;
-        let (mut lo, mut hi) = (eye, eye);
-        for v in light {
-            lo = lo.min(*v);
-            hi = hi.max(*v);
-        }
-        let pad = DVec3::splat(self.pad);
-        let bounds = Aabb::new(
-            (lo - self.centre - pad).as_vec3a(),
-            (hi - self.centre + pad).as_vec3a(),
-        );
         let mut shadows: Vec<Piece> = Vec::new();
         let mut overflow = false;
-        self.bvh.aabb_traverse(bounds, |bvh, node| {
-            let node = &bvh.nodes[node as usize];
-            let first = node.first_index as usize;
-            for slot in first..first + node.prim_count as usize {
-                let p = &sources.polygons[bvh.primitive_indices[slot] as usize];
+        // Only the nodes the shaft's planes do not cut away: a shaft's
+        // bounding box holds many polygons its thin pyramid misses.
+        walk(
+            &self.bvh,
+            self.centre,
+            |lo, hi| !shaft.misses_box(lo, hi),
+            |id| {
+                let p = &sources.polygons[id];
                 if p.surface == own_surface
                     || p.surface == poly.surface
                     || shaft.misses(p.centre, p.radius)
                 {
-                    continue;
+                    return true;
                 }
-                if let Some(shadow) = shaft.shadow_of(&p.vertices[..p.count as usize]) {
+                if let Some(shadow) = shaft.shadow_of(p.corners()) {
                     shadows.push(shadow);
                     if shadows.len() > MAX_OCCLUDERS {
                         overflow = true;
                         return false;
                     }
                 }
-            }
-            true
-        });
+                true
+            },
+        );
         if overflow {
             return None;
         }

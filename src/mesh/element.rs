@@ -9,20 +9,32 @@ slotmap::new_key_type! {
     pub struct ElementKey;
 }
 
-/// A patch: a constant-radiosity source of the coarse system, and the root of an
-/// element quadtree.
+/// A patch: a constant-radiosity source of the coarse system, and the root of
+/// one element quadtree, or of several for a face cluster (see
+/// [`super::clusters`]).
 #[derive(Clone, Debug)]
 pub struct Patch {
-    /// The scene surface it lies on.
+    /// The scene surface it lies on; a face cluster's first surface (its
+    /// surfaces share one object and material).
     pub surface: u32,
-    /// Its root element.
-    pub root: ElementKey,
-    /// World polygon, counter-clockwise around the surface normal.
+    /// Its root elements: one for a cell of a surface's lattice, one per
+    /// surface for a face cluster, in surface order.
+    pub roots: SmallVec<[ElementKey; 1]>,
+    /// World polygon of its first root, counter-clockwise around the surface
+    /// normal (the whole patch unless it is a cluster).
     pub polygon: SmallVec<[DVec3; 4]>,
     /// Area in square metres.
     pub area: f64,
     /// Area centroid.
     pub centroid: DVec3,
+}
+
+impl Patch {
+    /// True for a face cluster: a patch of several surfaces.
+    #[must_use]
+    pub fn is_cluster(&self) -> bool {
+        self.roots.len() > 1
+    }
 }
 
 /// A quadtree node. Leaves are receivers with a hemi-cube row each.

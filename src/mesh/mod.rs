@@ -5,6 +5,7 @@
 //! receivers whose hemi-cubes give element-to-patch form factors.
 
 mod cell;
+pub mod clusters;
 mod element;
 mod lattice;
 mod locate;
@@ -50,15 +51,41 @@ impl std::ops::Index<ElementKey> for Mesh {
 
 impl Mesh {
     /// Cuts every surface of `scene` into patches no larger than `patch_size`
-    /// (metres) along any edge; each patch is a single leaf element. Fails when the
-    /// patch count would exceed `max_patches`.
+    /// (metres) along any edge, and groups small adjacent surfaces into face
+    /// clusters (see [`clusters`]); each patch's roots are single leaf
+    /// elements. Fails when the patch count would exceed `max_patches`.
     pub fn new(scene: &Scene, patch_size: f64, max_patches: usize) -> Result<Self> {
+        Self::build(scene, patch_size, max_patches, true)
+    }
+
+    /// [`Mesh::new`], with face clusters or without them (every surface a
+    /// patch or lattice of patches of its own).
+    pub fn build(
+        scene: &Scene,
+        patch_size: f64,
+        max_patches: usize,
+        face_clusters: bool,
+    ) -> Result<Self> {
         if !(patch_size.is_finite() && patch_size > 0.0) {
             return Err(Error::Setting {
                 name: "patch-size",
                 message: format!("must be a positive length, got {patch_size}"),
             });
         }
+        // Per surface, the patch its single cell joins when it is a member of
+        // a cluster (filled in when the cluster's first surface is reached).
+        let mut cluster_of: Vec<Option<usize>> = vec![None; scene.surfaces.len()];
+        let clusters = if face_clusters {
+            clusters::face_clusters(scene, patch_size)
+        } else {
+            Vec::new()
+        };
+        for (c, members) in clusters.iter().enumerate() {
+            for &s in members {
+                cluster_of[s as usize] = Some(c);
+            }
+        }
+        let mut cluster_patch: Vec<Option<u32>> = vec![None; clusters.len()];
         let mut mesh = Mesh {
             surfaces: Vec::with_capacity(scene.surfaces.len()),
             patches: Vec::new(),
@@ -81,22 +108,34 @@ impl Mesh {
                 material.reflectance,
                 material.emission,
                 patch_size,
-                mesh.patches.len() as u32,
+                mesh.top_roots.len() as u32,
             );
             mesh.surfaces.push(lattice);
             for cell in cells {
-                let patch = mesh.patches.len() as u32;
+                let joins = cluster_of[si].and_then(|c| cluster_patch[c]);
+                let patch = joins.unwrap_or(mesh.patches.len() as u32);
                 let key = mesh.insert_element(si as u32, patch, None, cell, 0);
                 mesh.top_roots.push(key);
                 let e = &mesh.elements[key];
-                let p = Patch {
-                    surface: si as u32,
-                    root: key,
-                    polygon: mesh.surfaces[si].polygon(&cell),
-                    area: e.area,
-                    centroid: e.centroid,
-                };
-                mesh.patches.push(p);
+                let (area, centroid) = (e.area, e.centroid);
+                if let Some(p) = joins {
+                    let p = &mut mesh.patches[p as usize];
+                    p.roots.push(key);
+                    let total = p.area + area;
+                    p.centroid = (p.centroid * p.area + centroid * area) / total;
+                    p.area = total;
+                } else {
+                    if let Some(c) = cluster_of[si] {
+                        cluster_patch[c] = Some(patch);
+                    }
+                    mesh.patches.push(Patch {
+                        surface: si as u32,
+                        roots: smallvec::smallvec![key],
+                        polygon: mesh.surfaces[si].polygon(&cell),
+                        area,
+                        centroid,
+                    });
+                }
             }
         }
         Ok(mesh)
@@ -140,12 +179,14 @@ impl Mesh {
         kids
     }
 
-    /// Splits patch `p` into the four children of its root element, which become
+    /// Splits patch `p`, a cell of one surface's lattice (not a face
+    /// cluster), into the four children of its root element, which become
     /// patches: the first keeps id `p`, the others are appended. Every element
     /// below them is re-labelled. The root is split first if it is a leaf.
     /// Returns the ids of the four patches.
-    pub fn split_patch(&mut self, p: u32) -> [u32; 4] {
-        let root = self.patches[p as usize].root;
+    pub(crate) fn split_patch(&mut self, p: u32) -> [u32; 4] {
+        debug_assert!(!self.patches[p as usize].is_cluster());
+        let root = self.patches[p as usize].roots[0];
         if self.elements[root].is_leaf() {
             self.split(root);
         }
@@ -165,7 +206,7 @@ impl Mesh {
             let polygon = self.surfaces[surface as usize].polygon(&e.cell);
             self.patches[id as usize] = Patch {
                 surface,
-                root: k,
+                roots: smallvec::smallvec![k],
                 polygon,
                 area,
                 centroid,
@@ -208,11 +249,17 @@ impl Mesh {
         self.elements.len()
     }
 
-    /// The leaf elements of patch `p`, depth first in child order.
+    /// The leaf elements of patch `p`, root by root, depth first in child
+    /// order.
     #[must_use]
     pub fn patch_leaves(&self, p: u32) -> Vec<ElementKey> {
         let mut out = Vec::new();
-        let mut stack = vec![self.patches[p as usize].root];
+        let mut stack: Vec<ElementKey> = self.patches[p as usize]
+            .roots
+            .iter()
+            .rev()
+            .copied()
+            .collect();
         while let Some(k) = stack.pop() {
             let e = &self.elements[k];
             if e.is_leaf() {

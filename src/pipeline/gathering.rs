@@ -184,7 +184,7 @@ impl Gathering {
         for &p in &marks {
             let polygon = ws.mesh.patches[p as usize].polygon.clone();
             // The patch's root, if a leaf, splits first.
-            let root = ws.mesh.patches[p as usize].root;
+            let root = ws.mesh.patches[p as usize].roots[0];
             let root_was_leaf = ws.mesh.elements[root].is_leaf();
             let children = ws.mesh.split_patch(p);
             if root_was_leaf {
@@ -198,7 +198,7 @@ impl Gathering {
             });
             for id in children {
                 // Give each new patch the initial element depth below it.
-                let top = ws.mesh.elements[ws.mesh.patches[id as usize].root].depth;
+                let top = ws.mesh.elements[ws.mesh.patches[id as usize].roots[0]].depth;
                 for k in ws.mesh.patch_leaves(id) {
                     if ws.mesh.elements[k].depth < top + refine.initial_depth {
                         ws.split_to(k, top + refine.initial_depth);
@@ -220,7 +220,7 @@ impl Gathering {
         self.b.resize(ws.mesh.patches.len(), Rgb::ZERO);
         for split in &splits {
             for id in split.children {
-                let root = ws.mesh.patches[id as usize].root;
+                let root = ws.mesh.patches[id as usize].roots[0];
                 self.b[id as usize] = ws.radiosity.element(root);
             }
         }

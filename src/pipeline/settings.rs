@@ -14,6 +14,12 @@ pub struct Settings {
     pub hemicube_resolution: usize,
     /// Largest patch edge in metres; `None` derives it from the scene's size.
     pub patch_size: Option<f64>,
+    /// Group small adjacent surfaces of one object and material whose normals
+    /// agree into face clusters, each one patch (see
+    /// [`crate::mesh::clusters`]): the sources then follow the patch size,
+    /// not the triangle count. Off makes every surface a patch (or lattice of
+    /// patches) of its own, for comparison.
+    pub face_clusters: bool,
     /// Seed of the hemi-cube rotations.
     pub seed: u64,
     /// How hemi-cube pixels become form factors.
@@ -47,6 +53,7 @@ impl Default for Settings {
         Settings {
             hemicube_resolution: 64,
             patch_size: None,
+            face_clusters: true,
             seed: 1,
             form_factors: FormFactorMethod::default(),
             emitter_sampling: EmitterSampling::default(),

@@ -59,7 +59,12 @@ impl<'a> Workspace<'a> {
             .min_element_area
             .unwrap_or_else(|| (scene.diameter() * 1e-3).powi(2));
         let t = Instant::now();
-        let mut mesh = Mesh::new(scene, settings.patch_size_for(scene), settings.max_patches)?;
+        let mut mesh = Mesh::build(
+            scene,
+            settings.patch_size_for(scene),
+            settings.max_patches,
+            settings.face_clusters,
+        )?;
         split_uniformly(
             &mut mesh,
             refine.uniform_depth.unwrap_or(refine.initial_depth),

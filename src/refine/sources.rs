@@ -31,7 +31,11 @@ pub(crate) fn mark_sources(
     }
     let mut out = Vec::new();
     for (p, patch) in mesh.patches.iter().enumerate() {
-        let root = &mesh.elements[patch.root];
+        // A face cluster is a source of many small surfaces: it does not split.
+        if patch.is_cluster() {
+            continue;
+        }
+        let root = &mesh.elements[patch.roots[0]];
         if root.depth >= max_patch_depth || patch.area * 0.25 < min_area {
             continue;
         }

@@ -2,7 +2,7 @@
 //! kept apart from the mesh, which holds geometry only.
 
 use crate::math::Rgb;
-use crate::mesh::{ElementKey, Mesh};
+use crate::mesh::{ElementKey, Mesh, Patch};
 use slotmap::SecondaryMap;
 
 /// Radiosity (exitance, per band) per element node and per patch.
@@ -90,6 +90,19 @@ impl Radiosity {
         let mean = sum / e.area;
         self.elements.insert(key, mean);
         mean
+    }
+
+    /// Sets every interior node of patch `p`'s trees to the area-weighted
+    /// mean of its children, and returns the patch's area-weighted mean.
+    pub fn patch_mean(&mut self, mesh: &Mesh, p: &Patch) -> Rgb {
+        if let [root] = p.roots[..] {
+            return self.push_up(mesh, root);
+        }
+        let mut sum = Rgb::ZERO;
+        for &root in &p.roots {
+            sum += self.push_up(mesh, root) * mesh.elements[root].area;
+        }
+        sum / p.area
     }
 
     /// Heap bytes held (the element table and the patch values).

@@ -26,6 +26,7 @@ fn source(vertices: &[DVec3], surface: u32) -> SourcePolygon {
         surface,
         centre,
         radius,
+        patch: 0,
     }
 }
 
@@ -49,14 +50,13 @@ fn one_row(
     method: FormFactorMethod,
     angle: f64,
 ) -> Vec<f64> {
-    let sources = Sources {
-        emitters: Vec::new(),
-        polygons: polys
+    let sources = Sources::one_per_patch(
+        polys
             .iter()
             .enumerate()
             .map(|(i, p)| source(p, i as u32 + 1))
             .collect(),
-    };
+    );
     let mut cube = Hemicube::new(Arc::new(DeltaTable::new(256)), polys.len());
     let row = cube.row(&sources, eye, normal, angle, 0, method);
     (0..polys.len() as u32).map(|j| row.get(j)).collect()

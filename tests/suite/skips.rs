@@ -368,15 +368,12 @@ fn square_source(centre: DVec3, facing: DVec3, half: f64, surface: u32) -> Sourc
 fn hemicube_rows_are_the_same_bits_when_empty_faces_are_skipped() {
     // A small square straight above, one low on the +x side, one far off on
     // the -y side, and one below the horizon.
-    let sources = Sources {
-        polygons: vec![
-            square_source(DVec3::new(0.0, 0.0, 2.0), -DVec3::Z, 0.2, 1),
-            square_source(DVec3::new(3.0, 0.2, 0.5), -DVec3::X, 0.4, 2),
-            square_source(DVec3::new(0.3, -4.0, 1.5), DVec3::Y, 1.0, 3),
-            square_source(DVec3::new(0.0, 0.0, -1.0), DVec3::Z, 1.0, 4),
-        ],
-        emitters: Vec::new(),
-    };
+    let sources = Sources::one_per_patch(vec![
+        square_source(DVec3::new(0.0, 0.0, 2.0), -DVec3::Z, 0.2, 1),
+        square_source(DVec3::new(3.0, 0.2, 0.5), -DVec3::X, 0.4, 2),
+        square_source(DVec3::new(0.3, -4.0, 1.5), DVec3::Y, 1.0, 3),
+        square_source(DVec3::new(0.0, 0.0, -1.0), DVec3::Z, 1.0, 4),
+    ]);
     let table = Arc::new(DeltaTable::new(64));
     let mut skipping = Hemicube::new(Arc::clone(&table), 4);
     let mut full = Hemicube::new(table, 4);
@@ -410,10 +407,7 @@ fn hemicube_rows_are_the_same_bits_when_empty_faces_are_skipped() {
     assert!(skipping.stats.empty_faces > 0 && skipping.stats.pixels_skipped > 0);
     assert_eq!((full.stats.empty_faces, full.stats.pixels_skipped), (0, 0));
     // Looking straight up at the small square only: four side faces empty.
-    let only_above = Sources {
-        polygons: vec![sources.polygons[0].clone()],
-        emitters: Vec::new(),
-    };
+    let only_above = Sources::one_per_patch(vec![sources.polygons[0].clone()]);
     let mut cube = Hemicube::new(Arc::new(DeltaTable::new(64)), 1);
     let row = cube.row(
         &only_above,

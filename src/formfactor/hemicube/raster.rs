@@ -154,8 +154,8 @@ pub struct Hemicube {
     /// Pixel counts of the same coverage.
     covered_pixels: Vec<u32>,
     covered_touched: Vec<u32>,
-    /// Front faces that covered no pixel centre (hybrid method only): patch id
-    /// and its vertex mean in local and in world coordinates.
+    /// Front faces that covered no pixel centre (hybrid method only): polygon
+    /// index and its vertex mean in local and in world coordinates.
     subpixel: Vec<(u32, DVec3, DVec3)>,
     /// Per-row span limits of the polygon being scan converted.
     span_left: Vec<f64>,
@@ -340,7 +340,7 @@ impl Hemicube {
         list_subpixel: bool,
     ) {
         self.clear();
-        let n = sources.polygons.len();
+        let n = sources.patch_count();
         if self.accumulator.len() < n {
             self.accumulator.resize(n, 0.0);
             self.covered.resize(n, 0.0);
@@ -389,15 +389,18 @@ impl Hemicube {
                 self.stats.back_faces_skipped += 1;
                 continue;
             }
-            let item = if h < 0.0 { id as u32 } else { BACK_FACE };
+            let item = if h < 0.0 { poly.patch } else { BACK_FACE };
             let near = 1e-7 * scale;
             for (fi, face) in Face::ALL.iter().enumerate() {
                 self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
             }
-            if list_subpixel && item != BACK_FACE && self.covered[id] == 0.0 {
+            if list_subpixel && item != BACK_FACE && self.covered[item as usize] == 0.0 {
                 let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
-                self.subpixel
-                    .push((item, mean(&local[..count]), mean(&poly.vertices[..count])));
+                self.subpixel.push((
+                    id as u32,
+                    mean(&local[..count]),
+                    mean(&poly.vertices[..count]),
+                ));
             }
         }
     }
@@ -424,8 +427,7 @@ impl Hemicube {
             .entries()
             .iter()
             .map(|&(id, won)| {
-                let poly = &sources.polygons[id as usize];
-                let exact = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
+                let exact = sources.exact_form_factor(id, eye, normal);
                 let covered = self.covered[id as usize];
                 let visible = if covered > 0.0 {
                     (f64::from(won) / covered).min(1.0)
@@ -437,17 +439,29 @@ impl Hemicube {
             .collect();
         let subpixel = std::mem::take(&mut self.subpixel);
         let before = entries.len();
-        for &(id, centroid, world) in &subpixel {
-            if self.sample_visible(sources, id, eye, centroid, world) {
-                let poly = &sources.polygons[id as usize];
-                let exact = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
-                entries.push((id, exact));
+        for &(q, centroid, world) in &subpixel {
+            let poly = &sources.polygons[q as usize];
+            // A cluster with pixels of its own has its entry from them.
+            if self.covered[poly.patch as usize] > 0.0 {
+                continue;
+            }
+            if self.sample_visible(sources, q, eye, centroid, world) {
+                let exact = point_to_polygon(eye, normal, poly.corners());
+                entries.push((poly.patch, exact));
             }
         }
         self.subpixel = subpixel; // keeps its capacity; cleared per row
 
         if entries.len() > before {
             entries.sort_unstable_by_key(|e| e.0);
+            // Sub-pixel polygons of one cluster add up.
+            entries.dedup_by(|b, a| {
+                let same = a.0 == b.0;
+                if same {
+                    a.1 += b.1;
+                }
+                same
+            });
         }
         if let Some(EmitterVisibility {
             occluders,
@@ -457,15 +471,7 @@ impl Hemicube {
         {
             let mut changed = false;
             for &j in &sources.emitters {
-                let poly = &sources.polygons[j as usize];
                 let (won, covered) = (row.get(j), self.covered[j as usize]);
-                if poly.surface == own_surface {
-                    continue;
-                }
-                let exact = point_to_polygon(eye, normal, &poly.vertices[..poly.count as usize]);
-                if exact <= 0.0 {
-                    continue;
-                }
                 let hint = if covered <= 0.0 {
                     PixelHint::Unseen
                 } else if won >= covered * (1.0 - 1e-6) {
@@ -475,25 +481,43 @@ impl Hemicube {
                 } else {
                     PixelHint::Hidden
                 };
-                // The element's mean form factor where every sample can be
-                // clipped exactly; else the centre's, with ray-cast visibility.
-                let exact_mean = if samples.is_empty() {
-                    None
-                } else {
-                    occluders.mean_visible_form_factor(sources, samples, normal, own_surface, j)
-                };
-                let f = exact_mean.unwrap_or_else(|| {
-                    exact
-                        * occluders.visible_fraction(
-                            sources,
-                            eye,
-                            normal,
-                            own_surface,
-                            j,
-                            seed,
-                            hint,
-                        )
-                });
+                // Polygon by polygon (a face cluster that emits has several).
+                let mut f = 0.0;
+                let mut seen = false;
+                for q in sources.range(j) {
+                    let poly = &sources.polygons[q];
+                    if poly.surface == own_surface {
+                        continue;
+                    }
+                    let exact = point_to_polygon(eye, normal, poly.corners());
+                    if exact <= 0.0 {
+                        continue;
+                    }
+                    seen = true;
+                    let q = q as u32;
+                    // The element's mean form factor where every sample can be
+                    // clipped exactly; else the centre's, with ray-cast visibility.
+                    let exact_mean = if samples.is_empty() {
+                        None
+                    } else {
+                        occluders.mean_visible_form_factor(sources, samples, normal, own_surface, q)
+                    };
+                    f += exact_mean.unwrap_or_else(|| {
+                        exact
+                            * occluders.visible_fraction(
+                                sources,
+                                eye,
+                                normal,
+                                own_surface,
+                                q,
+                                seed,
+                                hint,
+                            )
+                    });
+                }
+                if !seen {
+                    continue;
+                }
                 match entries.binary_search_by_key(&j, |e| e.0) {
                     Ok(i) => entries[i].1 = f,
                     Err(i) => entries.insert(i, (j, f)),
@@ -513,12 +537,13 @@ impl Hemicube {
         Row::from_sorted(entries.into_iter().map(|(i, f)| (i, f as f32)).collect())
     }
 
-    /// Whether the patch `id`, whose centroid is `local` in the hemi-cube's
+    /// Whether the polygon `id`, whose centroid is `local` in the hemi-cube's
     /// frame and `world` in the scene, is visible from `eye` along the ray to
     /// its centroid: true if the pixel that ray falls in holds nothing, a patch of
     /// the same (planar) surface, or a patch whose plane the ray does not meet
-    /// between the eye and the centroid. A back face, whose plane is not kept, is compared by
-    /// the depth stored at the pixel centre.
+    /// between the eye and the centroid. A back face, whose plane is not kept,
+    /// and a face cluster, which has no one plane, are compared by the depth
+    /// stored at the pixel centre.
     fn sample_visible(
         &self,
         sources: &Sources,
@@ -558,12 +583,19 @@ impl Hemicube {
         if winner == NOTHING {
             return true;
         }
-        if winner == BACK_FACE {
+        let single = match winner {
+            BACK_FACE => None,
+            _ => match sources.patch(winner) {
+                [w] => Some(w),
+                _ => None,
+            },
+        };
+        let Some(w) = single else {
+            // A back face or a face cluster: by depth. The stored value
+            // carries up to a span of single-precision steps.
             let stored = f64::from(self.depth[fi][px]);
-            // The stored value carries up to a span of single-precision steps.
             return 1.0 / p.z >= stored * (1.0 - 4.0 * n as f64 * f64::from(f32::EPSILON));
-        }
-        let w = &sources.polygons[winner as usize];
+        };
         if w.surface == sources.polygons[id as usize].surface {
             return true;
         }

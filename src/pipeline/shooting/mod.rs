@@ -158,7 +158,7 @@ impl Solver for Shooting<'_> {
         let patch_radiosity: Vec<Rgb> = mesh
             .patches
             .iter()
-            .map(|p| ws.radiosity.push_up(mesh, p.root))
+            .map(|p| ws.radiosity.patch_mean(mesh, p))
             .collect();
         ws.radiosity.set_patches(&patch_radiosity);
         let mut emitted = Rgb::ZERO;

@@ -36,7 +36,9 @@ pub(super) struct CellResult {
     pub(super) open: Vec<Cell>,
 }
 
-/// What every cell of one shot shares.
+/// What every cell of one shot shares (but its surface: a face cluster's
+/// cells lie on several).
+#[derive(Clone, Copy)]
 pub(super) struct CellContext<'a> {
     pub(super) mesh: &'a Mesh,
     pub(super) receivers: &'a Receivers,
@@ -217,26 +219,27 @@ impl CellContext<'_> {
             .iter()
             .map(|&p| r.patch_leaves[p as usize].len())
             .sum();
-        let mut mixed = Sources {
-            polygons: Vec::with_capacity(r.patch_sources.polygons.len() + extra),
-            emitters: Vec::new(),
-        };
+        let mut polygons = Vec::with_capacity(r.patch_sources.polygons.len() + extra);
         // Leaf index of each polygon of the mixed list; whole patches only hide.
-        let mut leaf_of = Vec::with_capacity(mixed.polygons.capacity());
+        let mut leaf_of = Vec::with_capacity(polygons.capacity());
         let mut next = partly.iter().peekable();
-        for (p, poly) in r.patch_sources.polygons.iter().enumerate() {
-            if next.peek() == Some(&&(p as u32)) {
+        for p in 0..r.patch_sources.patch_count() as u32 {
+            if next.peek() == Some(&&p) {
                 next.next();
-                let range = r.patch_leaves[p].clone();
-                mixed.polygons.extend_from_slice(
+                let range = r.patch_leaves[p as usize].clone();
+                polygons.extend_from_slice(
                     &r.sources.polygons[range.start as usize..range.end as usize],
                 );
                 leaf_of.extend(range);
             } else {
-                mixed.polygons.push(poly.clone());
-                leaf_of.push(u32::MAX);
+                for poly in r.patch_sources.patch(p) {
+                    polygons.push(poly.clone());
+                    leaf_of.push(u32::MAX);
+                }
             }
         }
+        // Every polygon its own item, so that each leaf is counted apart.
+        let mixed = Sources::one_per_patch(polygons);
         let seen = cube.coverage(&mixed, s.eye, normal, s.angle, self.surface);
         seen.polygons
             .into_iter()
@@ -290,10 +293,11 @@ impl CellContext<'_> {
     fn cut_by_receivers(&self, s: &CellShooter, normal: DVec3, out: &mut Vec<(u32, f64)>) {
         let r = self.receivers;
         let margin = 1e-9 * s.area.sqrt();
-        for (p, poly) in r.patch_sources.polygons.iter().enumerate() {
+        for poly in &r.patch_sources.polygons {
             if poly.surface == self.surface {
                 continue;
             }
+            let p = poly.patch as usize;
             let (origin, n) = (poly.vertices[0], poly.normal);
             if n.dot(s.eye - origin) > 0.0 || !s.polygon.iter().any(|v| n.dot(*v - origin) > margin)
             {
@@ -309,6 +313,10 @@ impl CellContext<'_> {
                 surface: self.surface,
             };
             for i in r.patch_leaves[p].clone() {
+                // A face cluster's other surfaces have polygons of their own.
+                if r.sources.polygons[i as usize].surface != poly.surface {
+                    continue;
+                }
                 let at = r.eyes[i as usize];
                 if (at - eye.point).dot(normal) <= 0.0 {
                     continue;

@@ -98,6 +98,10 @@ impl std::ops::AddAssign for CellCounts {
     }
 }
 
+/// A shooter cell and the surface it lies on (a face cluster's cells lie
+/// on several).
+type SurfaceCell = (u32, Cell);
+
 /// Renders shots. Holds one hemi-cube per worker thread and reusable buffers.
 #[derive(Debug)]
 pub(crate) struct Shooter {
@@ -106,7 +110,7 @@ pub(crate) struct Shooter {
     method: FormFactorMethod,
     /// Per patch, the cell depth and the open shooter cells found at its last
     /// shot.
-    cells: Vec<Option<(u8, Vec<Cell>)>>,
+    cells: Vec<Option<(u8, Vec<SurfaceCell>)>>,
     dense: Vec<f64>,
     touched: Vec<u32>,
 }
@@ -166,16 +170,23 @@ impl Shooter {
             .take()
             .filter(|(d, _)| *d == depth)
             .map(|(_, c)| c);
+        // (surface, cell) pairs: a face cluster's roots lie on its surfaces.
         let cells = cached.unwrap_or_else(|| {
-            let mut cells = vec![mesh.elements[p.root].cell];
-            for _ in 0..depth {
-                cells = cells.iter().flat_map(Cell::children).collect();
-            }
-            cells
+            p.roots
+                .iter()
+                .flat_map(|&root| {
+                    let e = &mesh.elements[root];
+                    let mut cells = vec![e.cell];
+                    for _ in 0..depth {
+                        cells = cells.iter().flat_map(Cell::children).collect();
+                    }
+                    cells.into_iter().map(move |c| (e.surface, c))
+                })
+                .collect()
         });
         let workers = self.cubes.len().min(cells.len()).max(1);
         let per = cells.len().div_ceil(workers).max(1);
-        let groups: Vec<&[Cell]> = cells.chunks(per).collect();
+        let groups: Vec<&[SurfaceCell]> = cells.chunks(per).collect();
         let ctx = CellContext {
             mesh,
             receivers,
@@ -185,34 +196,42 @@ impl Shooter {
             method: self.method,
             deepest: depth + MAX_SHOOTER_SPLITS,
         };
-        let results: Vec<Vec<CellResult>> = self.cubes[..groups.len()]
+        let results: Vec<Vec<(u32, CellResult)>> = self.cubes[..groups.len()]
             .par_iter_mut()
             .zip(groups.par_iter())
             .map(|(cube, group)| {
                 group
                     .iter()
-                    .map(|cell| {
+                    .map(|&(surface, cell)| {
                         let mut r = CellResult::default();
                         let before = cube.stats;
-                        ctx.shoot(cube, cell, true, &mut r);
+                        CellContext { surface, ..ctx }.shoot(cube, &cell, true, &mut r);
                         r.work = cube.stats - before;
-                        r
+                        (surface, r)
                     })
                     .collect()
             })
             .collect();
-        let results: Vec<CellResult> = results.into_iter().flatten().collect();
-        self.cells[patch as usize] =
-            Some((depth, results.iter().flat_map(|r| r.open.clone()).collect()));
+        let results: Vec<(u32, CellResult)> = results.into_iter().flatten().collect();
+        self.cells[patch as usize] = Some((
+            depth,
+            results
+                .iter()
+                .flat_map(|(s, r)| r.open.iter().map(|c| (*s, *c)))
+                .collect(),
+        ));
 
         // Sum the cells' contributions per leaf, in a fixed order.
         if self.dense.len() < receivers.len() {
             self.dense.resize(receivers.len(), 0.0);
         }
         let mut shot = ShotFactors::default();
-        for CellResult {
-            out, counts, work, ..
-        } in results
+        for (
+            _,
+            CellResult {
+                out, counts, work, ..
+            },
+        ) in results
         {
             shot.work += work;
             shot.cells += counts;
