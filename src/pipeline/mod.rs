@@ -21,6 +21,7 @@ pub use stats::MemoryFigures;
 pub use stats::{
     EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
 };
+pub use stats::{CLOSED_ESCAPE, ENERGY_WARNING};
 
 use crate::error::{Error, Result};
 use crate::formfactor::{compute_rows_with, Sources};
@@ -202,6 +203,7 @@ pub fn solve(
         tally.hemicube,
     );
     stats.skips.add_rows(&tally);
+    stats.warn();
     stats.seconds.total = started.elapsed().as_secs_f64();
     Ok(Solution {
         mesh,
@@ -255,6 +257,7 @@ fn solve_and_gather(
     let options = GatherOptions {
         grey: plan.grey,
         rowless: plan.rowless_patch.as_deref(),
+        balance: Some(&system.balance),
     };
     if let Some(n) = settings.bounces {
         let (report, totals) = gather_bounces(mesh, system, b, n, &options)?;

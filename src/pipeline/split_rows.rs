@@ -126,7 +126,12 @@ fn derived_row(
         }
     }
     entries.sort_unstable_by_key(|x| x.0);
-    Update::Derived(Row::from_sorted(entries).without_zeros())
+    // Splitting a patch changes neither the back faces nor the sky in view.
+    Update::Derived(
+        Row::from_sorted(entries)
+            .with_hidden(e.row.back_faces(), e.row.open())
+            .without_zeros(),
+    )
 }
 
 #[cfg(test)]

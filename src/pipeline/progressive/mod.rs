@@ -14,11 +14,16 @@ use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, RefineSettings};
 use crate::scene::Scene;
+use crate::solve::balance::{balance, Receiver as BalanceReceiver, CLOSED_OPEN_SKY};
+use crate::solve::dark_patches;
 use crate::solve::progressive::{
-    adopt, ambient_term, HistoryPoint, ProgressiveStats, Receivers, Shooter, ShootingPass,
-    ShootingState, ShotCache, StopReason, Stopping,
+    adopt, ambient_term, regather, settle, HistoryPoint, ProgressiveStats, Receivers, Shooter,
+    ShootingPass, ShootingState, ShotCache, StopReason, Stopping,
 };
-use crate::solve::{push_up, GatherTotals, PatchSystem, SolveReport, SolverKind};
+use crate::solve::{
+    push_up, refuse_unbounded_row, GatherTotals, PatchSystem, SolveReport, SolverKind,
+    MAX_CONTRACTION,
+};
 use slotmap::SecondaryMap;
 use std::sync::Arc;
 use std::time::Instant;
@@ -58,10 +63,19 @@ struct Run<'a> {
     /// Whether every leaf has gathered its row once (see
     /// `ProgressiveSettings::gather_rows`), or tried to.
     rows_tried: bool,
-    /// Once rows are gathered, whether each leaf's row came out empty: the
-    /// gathering path's own test of a shut-in leaf, which then replaces the
-    /// shooter's fan of rays, so that both paths leave out the same leaves.
-    row_empty: SecondaryMap<ElementKey, bool>,
+    /// For each leaf with a gathering row: the row's sum, the form factor of
+    /// the back faces and of the open sky it sees. The sum is the gathering
+    /// path's own exposure of the leaf (0 for a shut-in leaf), which then
+    /// replaces the shooter's fan of rays, so that both paths weigh the leaves
+    /// alike; the other two say where the rest of its light goes.
+    row_view: SecondaryMap<ElementKey, [f64; 3]>,
+    /// Whether the cache holds every leaf's gathering row and the scene is
+    /// closed, so that shots deliver by the balanced rows, as Gauss-Seidel
+    /// gathers (see [`crate::solve::balance`]).
+    balanced: bool,
+    /// Whether the gathered rows find the scene closed: the leaves are then
+    /// weighed by their exposure, as Gauss-Seidel weighs them.
+    closed: bool,
 }
 
 /// The progressive solve (see the module docs).
@@ -118,14 +132,17 @@ pub(crate) fn solve_progressive(
         shots: 0,
         row_sum_total: 0.0,
         rows_tried: !ps.gather_rows,
-        row_empty: SecondaryMap::new(),
+        row_view: SecondaryMap::new(),
+        balanced: false,
+        closed: false,
     };
+    refuse_unbounded(&run.mesh, &run.patch_sources, &run.row_settings)?;
     run.state.expose(&run.mesh, &run.receivers);
     run.stats.seconds.mesh = t.elapsed().as_secs_f64();
     let mut shooter = Shooter::new(table, settings.seed, settings.form_factors);
     let stopping = Stopping::new(ps, started);
     let adaptive = refine.uniform_depth.is_none();
-    let mut fraction = run.state.unshot_fraction();
+    let mut fraction = run.unshot_fraction();
     let initial_fraction = fraction;
     let mut last_pass_fraction = fraction;
     let mut next_history = fraction;
@@ -143,7 +160,7 @@ pub(crate) fn solve_progressive(
                 break reason;
             }
             shooter.forget_cells();
-            fraction = run.state.unshot_fraction();
+            fraction = run.unshot_fraction();
             last_pass_fraction = fraction;
             continue;
         }
@@ -152,13 +169,13 @@ pub(crate) fn solve_progressive(
             // No refinement pass to gather the rows at.
             run.gather_rows(0);
             shooter.forget_cells();
-            fraction = run.state.unshot_fraction();
+            fraction = run.unshot_fraction();
             continue;
         }
         if refining && fraction <= ps.refine_factor * last_pass_fraction {
             run.refine_pass(fraction);
             shooter.forget_cells();
-            fraction = run.state.unshot_fraction();
+            fraction = run.unshot_fraction();
             last_pass_fraction = fraction;
             continue;
         }
@@ -166,7 +183,7 @@ pub(crate) fn solve_progressive(
             break StopReason::Converged;
         };
         run.shoot(&mut shooter, shooter_patch);
-        fraction = run.state.unshot_fraction();
+        fraction = run.unshot_fraction();
         run.report_shot(fraction);
         if run.shots == 1 || fraction <= next_history {
             run.record_history(fraction);
@@ -177,7 +194,7 @@ pub(crate) fn solve_progressive(
                 callback(&Preview {
                     shots: run.shots,
                     unshot_fraction: fraction,
-                    ambient: ambient_term(&run.mesh, &run.state.unshot),
+                    ambient: ambient_term(&run.mesh, &run.state.unshot, &run.state.exposure),
                     seconds: run.started.elapsed().as_secs_f64(),
                     mesh: &run.mesh,
                 });
@@ -191,6 +208,17 @@ pub(crate) fn solve_progressive(
 }
 
 impl Run<'_> {
+    /// The unshot fraction (magnitudes) now; notes the signed one's lowest.
+    fn unshot_fraction(&mut self) -> f64 {
+        let emitted = self.state.emitted_power();
+        if emitted > 0.0 {
+            let signed = self.state.signed_unshot_power().0.iter().sum::<f64>() / emitted;
+            let lowest = &mut self.figures.lowest_signed_unshot_fraction;
+            *lowest = lowest.min(signed);
+        }
+        self.state.unshot_fraction()
+    }
+
     /// One shot from `patch`.
     fn shoot(&mut self, shooter: &mut Shooter, patch: u32) {
         let t = Instant::now();
@@ -233,6 +261,11 @@ impl Run<'_> {
         let after = self.state.unshot_power();
         if (0..3).any(|b| after[b] > before[b] * (1.0 + 1e-12)) {
             self.figures.unshot_increases += 1;
+        }
+        // Shooting the light of one patch while others hold negative
+        // corrections can leave more light delivered than was emitted.
+        if self.balanced && settle(&mut self.mesh, &mut self.state, &self.receivers) {
+            self.figures.settled += 1;
         }
         self.stats.seconds.solve += t.elapsed().as_secs_f64();
 
@@ -306,12 +339,29 @@ impl Run<'_> {
 
         let (change, new_hemicubes) = if self.rows_tried {
             let rows = self.rows_for(&fresh, pass);
-            // The new leaves gather what was shot as it was shot: from the
-            // exposed parts the patches had then.
-            let change = adopt(&mut self.mesh, &mut self.state, &fresh, &rows);
             self.cache.refine(&self.mesh, &fresh, &rows);
             self.note_rows(&fresh, &rows);
-            self.expose();
+            let kept = self.figures.rows_gathered_after_shots.is_some();
+            self.balanced = kept && self.closed;
+            let change = if kept {
+                // New rows change the balance of every row: every leaf
+                // gathers what was shot again, by the rows.
+                self.rebalance();
+                let change = self.expose()
+                    + regather(
+                        &mut self.mesh,
+                        &mut self.state,
+                        &self.receivers,
+                        &self.cache,
+                    );
+                if self.balanced && settle(&mut self.mesh, &mut self.state, &self.receivers) {
+                    self.figures.settled += 1;
+                }
+                change
+            } else {
+                // The new leaves gather what was shot as it was shot.
+                self.expose() + adopt(&mut self.mesh, &mut self.state, &fresh, &rows)
+            };
             (change, fresh.len())
         } else {
             self.gather_rows(pass)
@@ -372,13 +422,11 @@ impl Run<'_> {
         self.rows_tried = true;
         let leaves = self.mesh.leaves();
         let rows = self.rows_for(&leaves, pass);
-        // What was shot is gathered again from the exposed part of each
-        // patch, as the rows find it.
         self.note_rows(&leaves, &rows);
-        self.expose();
-        let change = adopt(&mut self.mesh, &mut self.state, &leaves, &rows);
         if self.cache.gather(self.mesh.patches.len(), &leaves, &rows) {
             self.figures.rows_gathered_after_shots = Some(self.shots);
+            self.balanced = self.closed;
+            self.rebalance();
         } else {
             // Too many for the budget: shots go on rendering, and what the
             // cache held for leaves a pass just replaced is stale.
@@ -387,25 +435,74 @@ impl Run<'_> {
                 self.settings.progressive.shot_cache_bytes,
             );
         }
+        // What was shot is gathered again, by the rows, from each patch as
+        // its exposure weighs it.
+        let change = self.expose() + adopt(&mut self.mesh, &mut self.state, &leaves, &rows);
         (change, leaves.len())
     }
 
-    /// Remembers which of `keys` gathered an empty row.
+    /// Remembers the sums and hidden parts of the rows of `keys`, and
+    /// whether the rows find the scene closed.
     fn note_rows(&mut self, keys: &[ElementKey], rows: &[Row]) {
         for (&k, row) in keys.iter().zip(rows) {
-            self.row_empty.insert(k, row.is_empty());
+            self.row_view
+                .insert(k, [row.sum(), row.back_faces(), row.open()]);
         }
-    }
-
-    /// Takes the patches' exposed parts from the receivers, with the rows'
-    /// verdict in place of the fan of rays wherever a leaf has a row.
-    fn expose(&mut self) {
-        for (i, k) in self.receivers.leaves.iter().enumerate() {
-            if let Some(&empty) = self.row_empty.get(*k) {
-                self.receivers.exposed[i] = !empty;
+        let (mut open, mut total) = (0.0, 0.0);
+        for (k, [sum, _, sky]) in &self.row_view {
+            if let Some(e) = self.mesh.elements.get(k).filter(|e| e.is_leaf()) {
+                if *sum > 0.0 || *sky > 0.0 {
+                    open += e.area * sky;
+                    total += e.area;
+                }
             }
         }
-        self.state.expose(&self.mesh, &self.receivers);
+        self.closed = total > 0.0 && open <= CLOSED_OPEN_SKY * total;
+    }
+
+    /// Balances the rows the cache holds (see [`crate::solve::balance`]), as
+    /// the Gauss-Seidel path balances its rows, and has the shots deliver by
+    /// them.
+    fn rebalance(&mut self) {
+        if !self.balanced {
+            self.state.set_balance(&self.receivers, None);
+            return;
+        }
+        let rows = self.cache.rows(&self.receivers);
+        let receivers: Vec<BalanceReceiver<'_>> = rows
+            .iter()
+            .zip(&self.receivers.leaves)
+            .zip(&self.receivers.areas)
+            .map(|((row, k), &area)| BalanceReceiver {
+                patch: self.mesh.elements[*k].patch,
+                area,
+                entries: row,
+            })
+            .collect();
+        let b = balance(
+            &receivers,
+            self.mesh.patches.len(),
+            &dark_patches(&self.mesh),
+        );
+        self.state.set_balance(&self.receivers, Some(&b));
+    }
+
+    /// Takes the leaves' exposure from the receivers, with the rows' verdict
+    /// in place of the fan of rays wherever a leaf has a row: its row sum in a
+    /// closed scene, else 1 if it sees any front face. Returns the change in
+    /// unshot power.
+    fn expose(&mut self) -> Rgb {
+        for (i, k) in self.receivers.leaves.iter().enumerate() {
+            if let Some(&[sum, ..]) = self.row_view.get(*k) {
+                self.receivers.exposed[i] = sum > 0.0;
+                self.receivers.exposure[i] = match (self.closed, sum > 0.0) {
+                    (true, _) => sum,
+                    (false, true) => 1.0,
+                    (false, false) => 0.0,
+                };
+            }
+        }
+        self.state.expose(&self.mesh, &self.receivers)
     }
 
     /// The solution: patch radiosities as leaf means, interior nodes filled
@@ -424,9 +521,18 @@ impl Run<'_> {
             let e = &mesh.elements[k];
             emitted += mesh.surfaces[e.surface as usize].emission * e.area;
         }
+        let (mut back_faces, mut escaped) = (Rgb::ZERO, Rgb::ZERO);
+        for (k, [_, back, open]) in &self.row_view {
+            if let Some(e) = mesh.elements.get(k).filter(|e| e.is_leaf()) {
+                back_faces += e.radiosity * (e.area * back);
+                escaped += e.radiosity * (e.area * open);
+            }
+        }
         let totals = GatherTotals {
             emitted,
             absorbed: self.state.absorbed_power(mesh),
+            back_faces,
+            escaped,
         };
         // Progressive keeps no gathering rows: the system holds reflectance and
         // emission with empty rows.
@@ -453,7 +559,7 @@ impl Run<'_> {
         f.shots = self.shots;
         f.stop = stop;
         f.unshot_fraction = fraction;
-        f.ambient = ambient_term(mesh, &self.state.unshot);
+        f.ambient = ambient_term(mesh, &self.state.unshot, &self.state.exposure);
         f.mean_implied_row_sum = if self.shots > 0 {
             self.row_sum_total / self.shots as f64
         } else {
@@ -461,6 +567,8 @@ impl Run<'_> {
         };
         stats.hemicube.mean_row_sum = f.mean_implied_row_sum;
         stats.hemicube.max_row_sum = f.max_implied_row_sum;
+        stats.energy.truncated |= stop != StopReason::Converged;
+        stats.warn();
         stats.progressive = Some(std::mem::take(f));
         stats.seconds.total = self.started.elapsed().as_secs_f64();
         Solution {
@@ -470,4 +578,31 @@ impl Run<'_> {
             stats,
         }
     }
+}
+
+/// Refuses a scene whose system Gauss-Seidel would refuse: one where some
+/// patch's reflectance times its row sum exceeds [`MAX_CONTRACTION`] (a closed
+/// room with a wall of reflectance 1, where light would never die out).
+/// Only a reflectance above that bound can do it, so only the leaves of such
+/// patches render their gathering rows here, and the patch's row sum is the
+/// one the Gauss-Seidel path's patch system gives it: the exposure-weighted
+/// mean of its leaves' row sums.
+fn refuse_unbounded(mesh: &Mesh, sources: &Sources, settings: &RowSettings) -> Result<()> {
+    for p in 0..mesh.patches.len() as u32 {
+        let rho = mesh.patch_reflectance(p).max_band();
+        if rho <= MAX_CONTRACTION {
+            continue;
+        }
+        let leaves = mesh.patch_leaves(p);
+        let (rows, _) = compute_rows(mesh, sources, &leaves, settings, &|_| {});
+        let (mut weighted, mut total) = (0.0, 0.0);
+        for (k, row) in leaves.iter().zip(&rows) {
+            let w = mesh.elements[*k].area * row.sum();
+            weighted += w * row.sum();
+            total += w;
+        }
+        let sum = if total > 0.0 { weighted / total } else { 0.0 };
+        refuse_unbounded_row(p as usize, rho, sum)?;
+    }
+    Ok(())
 }

@@ -50,7 +50,7 @@ mod visibility;
 
 pub use ambient::ambient_term;
 pub use cache::{ShotCache, ENTRY_BYTES};
-pub use newborn::adopt;
+pub use newborn::{adopt, regather, settle};
 pub use receivers::Receivers;
 pub use report::{HistoryPoint, ProgressiveStats, ShootingPass};
 pub use settings::{ProgressiveSettings, SolverKind, MAX_SHOOTER_DEPTH};

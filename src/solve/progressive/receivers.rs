@@ -41,6 +41,11 @@ pub struct Receivers {
     /// part of it the shooters see (none, if it lies wholly under the box).
     /// Once rows are gathered, the rows decide instead.
     pub exposed: Vec<bool>,
+    /// The exposure of each leaf: the part of its view that front faces fill,
+    /// its weight (times its area) in its patch's radiosity as a source. Its
+    /// gathering row's sum once it has one; before, 1 where `exposed` and 0
+    /// where not.
+    pub exposure: Vec<f64>,
     /// Every patch of `patch_sources` as an occluder, for shadow rays.
     pub occluders: Arc<Occluders>,
 }
@@ -73,7 +78,7 @@ impl Receivers {
         }
         let patch_sources = Sources::from_mesh(mesh);
         let occluders = Occluders::new(&patch_sources);
-        let exposed = leaves
+        let exposed: Vec<bool> = leaves
             .par_iter()
             .zip(&eyes)
             .zip(&normals)
@@ -82,6 +87,7 @@ impl Receivers {
                 !occluders.is_shut_in(&patch_sources, *eye, *normal, surface)
             })
             .collect();
+        let exposure = exposed.iter().map(|&x| if x { 1.0 } else { 0.0 }).collect();
         Receivers {
             leaves,
             sources,
@@ -93,6 +99,7 @@ impl Receivers {
             areas,
             reflectances,
             exposed,
+            exposure,
             occluders: Arc::new(occluders),
         }
     }
