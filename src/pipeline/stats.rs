@@ -407,3 +407,43 @@ impl MemoryFigures {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn totals(emitted: f64, absorbed: f64, back_faces: f64, escaped: f64) -> GatherTotals {
+        GatherTotals {
+            emitted: Rgb::splat(emitted),
+            absorbed: Rgb::splat(absorbed),
+            back_faces: Rgb::splat(back_faces),
+            escaped: Rgb::splat(escaped),
+        }
+    }
+
+    #[test]
+    fn back_faces_count_as_absorbers_in_the_balance() {
+        let e = EnergyBalance::of(&totals(1.0, 0.9, 0.1, 0.0), false);
+        assert!(e.closed);
+        assert!(e.relative_difference.abs() < 1e-15, "{e:?}");
+        assert!(e.warning().is_none());
+    }
+
+    #[test]
+    fn a_closed_scene_off_by_more_than_the_threshold_is_warned_about() {
+        let off = 1.5 * ENERGY_WARNING;
+        let lost = EnergyBalance::of(&totals(1.0, 1.0 - off, 0.0, 0.0), false);
+        let w = lost.warning().expect("a warning");
+        assert!(w.contains("lose") && w.contains("closed"), "{w}");
+        let made = EnergyBalance::of(&totals(1.0, 1.0 + off, 0.0, 0.0), false);
+        assert!(made.warning().expect("a warning").contains("create"));
+        // Within the threshold, truncated on purpose, or open: nothing.
+        let near = EnergyBalance::of(&totals(1.0, 1.0 - 0.5 * ENERGY_WARNING, 0.0, 0.0), false);
+        assert!(near.warning().is_none());
+        assert!(EnergyBalance::of(&totals(1.0, 0.5, 0.0, 0.0), true)
+            .warning()
+            .is_none());
+        let open = EnergyBalance::of(&totals(1.0, 0.6, 0.0, 0.4), false);
+        assert!(!open.closed && open.warning().is_none());
+    }
+}

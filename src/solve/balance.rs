@@ -34,9 +34,13 @@ use crate::formfactor::Row;
 /// cracks between polygons leave.
 pub const CLOSED_OPEN_SKY: f64 = 1e-3;
 
-/// Whether the scene whose leaves have the given areas and rows is closed:
-/// whether the area-weighted mean of the rows' open sky is at most
-/// [`CLOSED_OPEN_SKY`]. Leaves without rows do not count.
+/// Whether the scene whose leaves have the given areas, rows and emission
+/// (whether each emits) is closed: whether the area-weighted mean of the
+/// rows' open sky is at most [`CLOSED_OPEN_SKY`]. Only leaves that see some
+/// front face or emit count: light reaches and leaves the others only as
+/// their emission, so where they look does not matter (the bottom of a box
+/// standing on the floor looks down through the floor's back into the void,
+/// and nothing ever lights it).
 ///
 /// Only a closed scene is balanced, and weighs its elements by exposure (see
 /// [`crate::solve::PatchSystem`]). There light stays until it is absorbed, so
@@ -50,10 +54,10 @@ pub const CLOSED_OPEN_SKY: f64 = 1e-3;
 /// the front) it and the exposure weights moved the surfaces by up to 0.4%
 /// either way.
 #[must_use]
-pub fn is_closed<'a>(leaves: impl Iterator<Item = (f64, &'a Row)>) -> bool {
+pub fn is_closed<'a>(leaves: impl Iterator<Item = (f64, &'a Row, bool)>) -> bool {
     let (mut open, mut total) = (0.0, 0.0);
-    for (area, row) in leaves {
-        if !row.is_empty() || row.open() > 0.0 {
+    for (area, row, emits) in leaves {
+        if !row.is_empty() || emits {
             open += area * row.open();
             total += area;
         }

@@ -78,7 +78,8 @@ impl PatchSystem {
         let leaves = mesh.leaves();
         let closed = is_closed(leaves.iter().map(|k| {
             let e = &mesh.elements[*k];
-            (e.area, &e.row)
+            let emits = mesh.surfaces[e.surface as usize].emission != Rgb::ZERO;
+            (e.area, &e.row, emits)
         }));
         let receivers: Vec<Receiver<'_>> = leaves
             .iter()

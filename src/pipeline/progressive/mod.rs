@@ -448,10 +448,13 @@ impl Run<'_> {
             self.row_view
                 .insert(k, [row.sum(), row.back_faces(), row.open()]);
         }
+        // As `solve::balance::is_closed` judges it: the open sky of the leaves
+        // that see a front face or emit.
         let (mut open, mut total) = (0.0, 0.0);
         for (k, [sum, _, sky]) in &self.row_view {
             if let Some(e) = self.mesh.elements.get(k).filter(|e| e.is_leaf()) {
-                if *sum > 0.0 || *sky > 0.0 {
+                let emits = self.mesh.surfaces[e.surface as usize].emission != Rgb::ZERO;
+                if *sum > 0.0 || emits {
                     open += e.area * sky;
                     total += e.area;
                 }
