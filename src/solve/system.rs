@@ -66,74 +66,110 @@ impl PatchSystem {
             emission: (0..n as u32).map(|p| mesh.patch_emission(p)).collect(),
             balance: Balance::default(),
         };
-        s.refresh(mesh, &[]);
+        s.assemble(mesh, None);
         s
     }
 
     /// Brings the rows up to date after the leaves of the given patches
-    /// changed. New leaves change the balance of every row, so every patch
-    /// row is assembled again (a pass over the element rows, as the gather
-    /// makes).
-    pub fn refresh(&mut self, mesh: &Mesh, _patches: &[u32]) {
+    /// changed. In a closed scene new leaves change the balance of every row,
+    /// so every patch row is assembled again (a pass over the element rows,
+    /// as the gather makes); elsewhere only the rows of `patches` change.
+    pub fn refresh(&mut self, mesh: &Mesh, patches: &[u32]) {
+        self.assemble(mesh, Some(patches));
+    }
+
+    /// Balances the element rows of a closed scene and assembles the patch
+    /// rows: every one, or only those of `only` where nothing is balanced
+    /// now or was before.
+    fn assemble(&mut self, mesh: &Mesh, only: Option<&[u32]>) {
         let leaves = mesh.leaves();
         let closed = is_closed(leaves.iter().map(|k| {
             let e = &mesh.elements[*k];
             let emits = mesh.surfaces[e.surface as usize].emission != Rgb::ZERO;
             (e.area, &e.row, emits)
         }));
-        let receivers: Vec<Receiver<'_>> = leaves
-            .iter()
-            .map(|k| {
-                let e = &mesh.elements[*k];
-                Receiver {
-                    patch: e.patch,
-                    area: e.area,
-                    entries: e.row.entries(),
-                }
-            })
-            .collect();
+        let was_balanced = !self.balance.seen.is_empty();
         self.balance = if closed {
+            let receivers: Vec<Receiver<'_>> = leaves
+                .iter()
+                .map(|k| {
+                    let e = &mesh.elements[*k];
+                    Receiver {
+                        patch: e.patch,
+                        area: e.area,
+                        entries: e.row.entries(),
+                    }
+                })
+                .collect();
             balance(&receivers, mesh.patches.len(), &dark_patches(mesh))
         } else {
             Balance::default()
         };
         let mut dense: Vec<f64> = vec![0.0; mesh.patches.len()];
         let mut touched: Vec<u32> = Vec::new();
-        // Leaves come patch by patch.
-        let mut start = 0;
-        while start < leaves.len() {
-            let p = receivers[start].patch;
-            let end = start
-                + receivers[start..]
-                    .iter()
-                    .take_while(|r| r.patch == p)
-                    .count();
-            let total: f64 = leaves[start..end]
-                .iter()
-                .map(|k| weight(&mesh.elements[*k], closed))
-                .sum();
-            for (i, k) in (start..end).zip(&leaves[start..end]) {
-                let e = &mesh.elements[*k];
-                if e.row.is_empty() {
-                    continue;
-                }
-                let w = weight(e, closed) / total;
-                for &(j, f) in e.row.entries() {
-                    if dense[j as usize] == 0.0 {
-                        touched.push(j);
-                    }
-                    dense[j as usize] +=
-                        w * f64::from(f) * self.balance.entry(i, p as usize, j as usize);
+        match only.filter(|_| !was_balanced && self.balance.seen.is_empty()) {
+            Some(patches) => {
+                for &p in patches {
+                    // Nothing is balanced: the receivers' order is not needed.
+                    let group = mesh.patch_leaves(p);
+                    self.assemble_patch(mesh, p, &group, 0, closed, &mut dense, &mut touched);
                 }
             }
-            touched.sort_unstable();
-            self.rows[p as usize] = touched
-                .iter()
-                .map(|&j| (j, std::mem::take(&mut dense[j as usize])))
-                .collect();
-            touched.clear();
-            start = end;
+            None => {
+                // Leaves come patch by patch.
+                let mut start = 0;
+                while start < leaves.len() {
+                    let p = mesh.elements[leaves[start]].patch;
+                    let end = start
+                        + leaves[start..]
+                            .iter()
+                            .take_while(|k| mesh.elements[**k].patch == p)
+                            .count();
+                    let group = &leaves[start..end];
+                    self.assemble_patch(mesh, p, group, start, closed, &mut dense, &mut touched);
+                    start = end;
+                }
+            }
         }
+    }
+
+    /// Assembles the row of patch `p` from its leaves `group`, the first of
+    /// them receiver `first` of the balance.
+    #[allow(clippy::too_many_arguments)]
+    fn assemble_patch(
+        &mut self,
+        mesh: &Mesh,
+        p: u32,
+        group: &[crate::mesh::ElementKey],
+        first: usize,
+        closed: bool,
+        dense: &mut [f64],
+        touched: &mut Vec<u32>,
+    ) {
+        let total: f64 = group
+            .iter()
+            .map(|k| weight(&mesh.elements[*k], closed))
+            .sum();
+        for (i, k) in (first..).zip(group) {
+            let e = &mesh.elements[*k];
+            if e.row.is_empty() {
+                continue;
+            }
+            let w = weight(e, closed) / total;
+            for &(j, f) in e.row.entries() {
+                if dense[j as usize] == 0.0 {
+                    touched.push(j);
+                }
+                dense[j as usize] +=
+                    w * f64::from(f) * self.balance.entry(i, p as usize, j as usize);
+            }
+        }
+        touched.sort_unstable();
+        self.rows[p as usize] = touched
+            .iter()
+            .map(|&j| (j, std::mem::take(&mut dense[j as usize])))
+            .collect();
+        touched.clear();
     }
 
     /// Number of patches.

@@ -73,8 +73,8 @@ pub fn regather(
 /// by the factor that makes it zero, in each band where it is negative,
 /// leaves a state that holds no more light than was emitted. It is only the
 /// starting point the shots go on from; they converge to the same solution,
-/// and faster: at rho = 0.999 the negative corrections took 640 000 shots to
-/// shoot away, the scaled state 7 000.
+/// and faster: in the room with the lamp at rho = 0.999 the solve took
+/// 975 000 shots with the negative corrections, 328 000 with the scaled state.
 pub fn settle(mesh: &mut Mesh, state: &mut ShootingState, receivers: &Receivers) -> bool {
     let unshot = state.signed_unshot_power();
     if (0..3).all(|band| unshot[band] >= 0.0) {
