@@ -252,6 +252,10 @@ fn run_in_pool(
     let render_seconds = t.elapsed().as_secs_f64();
 
     let s: &SolveStats = solution.stats();
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
+    let warnings: Vec<String> = scene.warnings.iter().chain(&s.warnings).cloned().collect();
     let json = a.out.join(format!("{}.json", scene.name));
     outputs.push(json.display().to_string());
     let report = Report {
@@ -293,7 +297,7 @@ fn run_in_pool(
         threads,
         seed: a.settings.seed,
         import: &scene.import_stats,
-        warnings: &scene.warnings,
+        warnings: &warnings,
         outputs,
         surfaces: solution.object_radiosity(&scene),
     };

@@ -28,6 +28,6 @@ pub use rows::{compute_rows, RowSettings};
 pub(crate) use rows::{compute_rows_with, element_seed, RowSkips};
 pub use sources::{SourcePolygon, Sources};
 pub(crate) use split_rows::{update_rows_for_splits, SplitPatch};
-pub use store::{FormFactors, RowState};
-pub(crate) use unoccluded::{is_convex_enclosure, scene_scale, unoccluded_row};
+pub use store::{FormFactors, RowState, RowView};
+pub(crate) use unoccluded::{is_convex_enclosure, unoccluded_row};
 pub(crate) use visibility::{EmitterVisibility, Occluders, PixelHint};

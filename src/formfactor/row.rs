@@ -3,19 +3,39 @@
 /// The form factors from one receiver to the patches it sees: patch ids in
 /// increasing order (32 bits) with single-precision values. Patches not seen
 /// are not stored.
+///
+/// Besides the front faces, a receiver's hemisphere holds back faces of
+/// single-sided surfaces, which block light and reflect none (it ends there,
+/// absorbed), and, in an open scene, nothing at all (the light escapes). The
+/// row keeps the form factor of each, so that the light a receiver sends there
+/// can be accounted for: in a closed scene the three parts add up to 1.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Row {
     entries: Box<[(u32, f32)]>,
+    back_faces: f32,
+    open: f32,
 }
 
 impl Row {
-    /// A row from `(patch, form factor)` pairs sorted by patch id.
+    /// A row from `(patch, form factor)` pairs sorted by patch id, with no
+    /// back face or open sky in view.
     #[must_use]
     pub fn from_sorted(entries: Vec<(u32, f32)>) -> Self {
         debug_assert!(entries.windows(2).all(|w| w[0].0 < w[1].0));
         Row {
             entries: entries.into_boxed_slice(),
+            back_faces: 0.0,
+            open: 0.0,
         }
+    }
+
+    /// The same row, seeing back faces over form factor `back_faces` and
+    /// nothing over form factor `open`.
+    #[must_use]
+    pub fn with_hidden(mut self, back_faces: f64, open: f64) -> Self {
+        self.back_faces = back_faces as f32;
+        self.open = open as f32;
+        self
     }
 
     /// The row without its stored zeros (the same row when it has none).
@@ -30,7 +50,24 @@ impl Row {
             .copied()
             .filter(|e| e.1 != 0.0)
             .collect();
-        Row::from_sorted(kept)
+        Row {
+            entries: kept.into_boxed_slice(),
+            ..self
+        }
+    }
+
+    /// The form factor of the back faces the receiver sees: light it sends
+    /// there is absorbed by them.
+    #[must_use]
+    pub fn back_faces(&self) -> f64 {
+        f64::from(self.back_faces)
+    }
+
+    /// The form factor of the part of the receiver's view where nothing lies:
+    /// light it sends there leaves the scene.
+    #[must_use]
+    pub fn open(&self) -> f64 {
+        f64::from(self.open)
     }
 
     /// The stored `(patch, form factor)` pairs.

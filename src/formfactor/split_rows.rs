@@ -94,8 +94,8 @@ fn derived_row(
 ) -> Update {
     let row = match form_factors.state(k) {
         RowState::Computed(row) => row,
-        RowState::Skipped | RowState::ShutIn => return Update::Unchanged,
-        RowState::Pending | RowState::Released => return Update::Anew,
+        RowState::Skipped | RowState::ShutIn(_) => return Update::Unchanged,
+        RowState::Pending | RowState::Released(_) => return Update::Anew,
     };
     if !row
         .entries()
@@ -130,7 +130,12 @@ fn derived_row(
         }
     }
     entries.sort_unstable_by_key(|x| x.0);
-    Update::Derived(Row::from_sorted(entries).without_zeros())
+    // Splitting a patch changes neither the back faces nor the sky in view.
+    Update::Derived(
+        Row::from_sorted(entries)
+            .with_hidden(row.back_faces(), row.open())
+            .without_zeros(),
+    )
 }
 
 #[cfg(test)]

@@ -5,6 +5,32 @@ use super::Row;
 use crate::mesh::ElementKey;
 use slotmap::SecondaryMap;
 
+/// What a computed row says of the receiver's whole view: how much of it
+/// front faces fill (the row's sum), how much back faces (whose light is
+/// absorbed there) and how much nothing at all (open sky, where light
+/// leaves). In a closed scene the three add up to 1.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RowView {
+    /// The row's sum: the form factor of the front faces in view.
+    pub sum: f64,
+    /// The form factor of the back faces in view.
+    pub back_faces: f64,
+    /// The form factor of the part of the view where nothing lies.
+    pub open: f64,
+}
+
+impl RowView {
+    /// The view of `row`.
+    #[must_use]
+    pub fn of(row: &Row) -> Self {
+        RowView {
+            sum: row.sum(),
+            back_faces: row.back_faces(),
+            open: row.open(),
+        }
+    }
+}
+
 /// Where a leaf's row stands.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum RowState {
@@ -16,14 +42,15 @@ pub enum RowState {
     Skipped,
     /// Computed, and the leaf sees no front face (it lies under a box
     /// standing on it): by reciprocity nothing sees it, so it takes no part
-    /// in the exchange.
-    ShutIn,
+    /// in the exchange. Its view says where its own light (if it emits)
+    /// goes.
+    ShutIn(RowView),
     /// Computed, with what the leaf sees.
     Computed(Row),
     /// Computed and exposed, its entries no longer kept here: a solver that
     /// keeps them in its own layout took them (the progressive solver's shot
-    /// cache), or had no more use for them.
-    Released,
+    /// cache), or had no more use for them. Its view stays.
+    Released(RowView),
 }
 
 impl RowState {
@@ -31,7 +58,7 @@ impl RowState {
     /// not empty.
     #[must_use]
     pub fn is_exposed(&self) -> bool {
-        matches!(self, RowState::Computed(_) | RowState::Released)
+        matches!(self, RowState::Computed(_) | RowState::Released(_))
     }
 
     /// True when the row was computed (exposed or shut in).
@@ -39,8 +66,18 @@ impl RowState {
     pub fn is_computed(&self) -> bool {
         matches!(
             self,
-            RowState::Computed(_) | RowState::ShutIn | RowState::Released
+            RowState::Computed(_) | RowState::ShutIn(_) | RowState::Released(_)
         )
+    }
+
+    /// What the row says of the receiver's view, once computed.
+    #[must_use]
+    pub fn view(&self) -> Option<RowView> {
+        match self {
+            RowState::Computed(row) => Some(RowView::of(row)),
+            RowState::ShutIn(view) | RowState::Released(view) => Some(*view),
+            RowState::Pending | RowState::Skipped => None,
+        }
     }
 }
 
@@ -88,10 +125,16 @@ impl FormFactors {
         self.state(k).is_exposed()
     }
 
+    /// What leaf `k`'s row says of its view, once computed.
+    #[must_use]
+    pub fn view(&self, k: ElementKey) -> Option<RowView> {
+        self.state(k).view()
+    }
+
     /// Stores a computed row: [`RowState::ShutIn`] when it is empty.
     pub fn set_row(&mut self, k: ElementKey, row: Row) {
         let state = if row.is_empty() {
-            RowState::ShutIn
+            RowState::ShutIn(RowView::of(&row))
         } else {
             RowState::Computed(row)
         };
@@ -115,10 +158,11 @@ impl FormFactors {
         let Some(state) = self.states.get_mut(k) else {
             return Row::default();
         };
-        if !matches!(state, RowState::Computed(_)) {
+        let RowState::Computed(row) = state else {
             return Row::default();
-        }
-        match std::mem::replace(state, RowState::Released) {
+        };
+        let view = RowView::of(row);
+        match std::mem::replace(state, RowState::Released(view)) {
             RowState::Computed(row) => row,
             _ => Row::default(),
         }

@@ -93,7 +93,10 @@ pub(crate) fn unoccluded_row(
             e.1 /= sum;
         }
     }
+    // Every surface faces into a convex enclosure, so no back face is in
+    // view: what the surfaces leave of the hemisphere is open sky.
     Row::from_sorted(entries.into_iter().map(|(i, f)| (i, f as f32)).collect())
+        .with_hidden(0.0, (1.0 - sum).max(0.0))
 }
 
 /// The scene's bounding-box diagonal plus its largest coordinate: the scale

@@ -101,6 +101,7 @@ impl Solver for Gathering {
 
     fn finish(self, mut ws: Workspace<'_>) -> Solution {
         ws.finish_stats(&self.system, self.report, self.iterations, self.totals);
+        ws.stats.warn();
         Solution {
             mesh: ws.mesh,
             form_factors: ws.form_factors,
@@ -122,6 +123,7 @@ impl Gathering {
         let options = GatherOptions {
             grey: plan.grey,
             rowless: plan.rowless_patch.as_deref(),
+            balance: Some(&self.system.balance),
         };
         let (report, totals) = if let Some(n) = ws.settings.bounces {
             gather_bounces(

@@ -23,6 +23,7 @@ pub use stats::MemoryFigures;
 pub use stats::{
     EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
 };
+pub use stats::{CLOSED_ESCAPE, ENERGY_WARNING};
 
 use crate::error::Result;
 use crate::scene::Scene;

@@ -4,9 +4,7 @@
 
 use super::Settings;
 use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
-use crate::formfactor::{
-    is_convex_enclosure, scene_scale, FormFactorMethod, RowSettings, RowSkips,
-};
+use crate::formfactor::{is_convex_enclosure, FormFactorMethod, RowSettings, RowSkips};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::solve::SolverKind;
@@ -17,12 +15,13 @@ use std::sync::Arc;
 /// unoccluded form factors where the hemi-cube approximates them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Skips {
-    /// Elements of surfaces that reflect nothing (in any band) get no row:
-    /// their radiosity is their emission whatever they receive. The power
-    /// they absorb, which the energy balance needs, is summed from the other
-    /// elements' rows by reciprocity. (A non-reflecting emitter keeps its rows
-    /// when another non-reflecting surface faces it, since nothing else would
-    /// count the power passing between the two.)
+    /// Elements of surfaces that neither reflect (in any band) nor emit get
+    /// no row: their radiosity is 0 whatever they receive. The power they
+    /// absorb, which the energy balance needs, is summed from the other
+    /// elements' rows by reciprocity. (Emitters keep their rows even when
+    /// they reflect nothing: the rows say how much of their light reaches
+    /// front faces, which the balance of the rows needs, and how much back
+    /// faces or the sky take.)
     pub zero_reflectance: bool,
     /// When every reflectance and emission is grey (equal bands),
     /// Gauss-Seidel and the gather run on one band and copy it.
@@ -151,36 +150,13 @@ impl RowPlan {
     }
 }
 
-/// Per surface, whether its elements can go without rows: it reflects
-/// nothing, so its radiosity is its emission; and its rows are not needed for
-/// the power some other surface absorbs. Only the rows of elements with a
-/// radiosity, that is of emitters, carry power, and a row to a patch that has
-/// rows is not needed either (that patch counts what it receives itself). So
-/// a non-reflecting emitter keeps its rows if another non-reflecting surface
-/// faces it: each has a vertex in front of the other's plane.
+/// Per surface, whether its elements can go without rows: it neither
+/// reflects nor emits, so its radiosity is 0, and it takes no part in the
+/// balance of the rows (see [`crate::solve::balance`]); what it absorbs is
+/// summed from the other elements' rows by reciprocity.
 fn rowless_surfaces(mesh: &Mesh) -> Vec<bool> {
-    let black: Vec<bool> = mesh
-        .surfaces
+    mesh.surfaces
         .iter()
-        .map(|s| s.reflectance == Rgb::ZERO)
-        .collect();
-    // "In front" by more than rounding at the scene's scale: a surface in
-    // another's plane is not seen from it.
-    let slack = 1e-9 * scene_scale(mesh);
-    let in_front = |of: usize, plane: usize| {
-        let p = &mesh.surfaces[plane];
-        let offset = p.normal.dot(p.vertices[0]);
-        mesh.surfaces[of]
-            .vertices
-            .iter()
-            .any(|v| p.normal.dot(*v) - offset > slack)
-    };
-    (0..mesh.surfaces.len())
-        .map(|s| {
-            black[s]
-                && (mesh.surfaces[s].emission == Rgb::ZERO
-                    || !(0..mesh.surfaces.len())
-                        .any(|t| t != s && black[t] && in_front(t, s) && in_front(s, t)))
-        })
+        .map(|s| s.reflectance == Rgb::ZERO && s.emission == Rgb::ZERO)
         .collect()
 }

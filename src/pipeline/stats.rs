@@ -40,28 +40,59 @@ pub struct HemicubeFigures {
     pub element_form_factors: usize,
     /// Patch-to-patch form factors stored.
     pub patch_form_factors: usize,
-    /// Mean element row sum (1 in a closed scene).
+    /// Mean element row sum: 1 in a closed scene where no element sees a
+    /// back face (the energy balance says where the rest goes).
     pub mean_row_sum: f64,
     /// Largest element row sum.
     pub max_row_sum: f64,
 }
 
 /// The energy balance of the final gather, per band and summed over bands.
+///
+/// Emitted light ends absorbed by a surface, absorbed by the back of a
+/// single-sided surface (which blocks light and reflects none), or out of
+/// the scene. Each element's row says how much of its view each of the
+/// three fills, so the balance holds element by element up to the errors
+/// of the form factors.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct EnergyBalance {
     /// Emitted power per band, sum of `A E`.
     pub emitted_power: Rgb,
-    /// Absorbed power per band, sum of `A (1 - rho) H`.
+    /// Power absorbed by surfaces per band, sum of `A (1 - rho) H`.
     pub absorbed_power: Rgb,
-    /// `(absorbed - emitted) / emitted`, bands summed (0 in a closed scene;
-    /// negative where light escapes an open scene).
+    /// Power absorbed by back faces per band: `A B` times the back faces'
+    /// form factor, summed over elements.
+    pub back_face_power: Rgb,
+    /// Power that leaves the scene per band: `A B` times the form factor of
+    /// the part of the view where nothing lies, summed over elements (0 in a
+    /// closed scene).
+    pub escaped_power: Rgb,
+    /// `(absorbed + back faces - emitted) / emitted`, bands summed: 0 in a
+    /// closed scene, up to the errors of the form factors; negative where
+    /// light escapes an open scene.
     pub relative_difference: f64,
+    /// True when less than [`CLOSED_ESCAPE`] of the emitted power escapes:
+    /// `relative_difference` then measures how well the solution conserves
+    /// energy, and a warning says so when it is off by more than
+    /// [`ENERGY_WARNING`].
+    pub closed: bool,
     /// True when the solve kept a fixed number of reflections
-    /// ([`Settings::bounces`]): the light still travelling after the last one
-    /// is in neither figure, so `relative_difference` is negative even in a
-    /// closed scene. It then measures the truncation, not an error.
+    /// ([`Settings::bounces`]), or a progressive solve stopped before its
+    /// unshot power met the tolerance (a shot limit or a time budget): the
+    /// light still travelling is in neither figure, so `relative_difference`
+    /// is negative even in a closed scene. It then measures the truncation,
+    /// not an error.
     pub truncated: bool,
 }
+
+/// A scene from which less than this fraction of the emitted power escapes
+/// counts as closed for the energy balance (see [`EnergyBalance::closed`]).
+pub const CLOSED_ESCAPE: f64 = 1e-3;
+
+/// A closed scene whose absorbed power (surfaces and back faces) differs from
+/// its emitted power by more than this fraction gets a warning: the form
+/// factors lose or create that much light.
+pub const ENERGY_WARNING: f64 = 0.01;
 
 /// Work the solve left out because the scene did not need it (see
 /// [`super::Skips`]).
@@ -175,6 +206,9 @@ pub struct SolveStats {
     pub progressive: Option<crate::solve::progressive::ProgressiveStats>,
     /// Heap bytes held by the final mesh and patch system (an estimate).
     pub memory: MemoryFigures,
+    /// What the caller should know about the result: for now, a closed scene
+    /// whose energy balance is off by more than [`ENERGY_WARNING`].
+    pub warnings: Vec<String>,
 }
 
 impl SolveStats {
@@ -218,15 +252,53 @@ impl SolveStats {
         self.memory = MemoryFigures::of(mesh, form_factors, radiosity, system);
         self.solver = report;
         self.total_iterations = iterations;
-        let e = totals.emitted.0.iter().sum::<f64>();
-        let a = totals.absorbed.0.iter().sum::<f64>();
-        self.energy = EnergyBalance {
+        self.energy = EnergyBalance::of(&totals, settings.bounces.is_some());
+        self.bounces = settings.bounces;
+    }
+
+    /// Adds the warnings the figures call for (see [`SolveStats::warnings`]);
+    /// once, when they are final.
+    pub(crate) fn warn(&mut self) {
+        self.warnings.extend(self.energy.warning());
+    }
+}
+
+impl EnergyBalance {
+    /// The balance of a solution's power `totals`; `truncated` when it kept a
+    /// fixed number of reflections.
+    #[must_use]
+    pub fn of(totals: &GatherTotals, truncated: bool) -> Self {
+        let sum = |x: Rgb| x.0.iter().sum::<f64>();
+        let e = sum(totals.emitted);
+        let ended = sum(totals.absorbed) + sum(totals.back_faces);
+        EnergyBalance {
             emitted_power: totals.emitted,
             absorbed_power: totals.absorbed,
-            relative_difference: if e > 0.0 { (a - e) / e } else { 0.0 },
-            truncated: settings.bounces.is_some(),
-        };
-        self.bounces = settings.bounces;
+            back_face_power: totals.back_faces,
+            escaped_power: totals.escaped,
+            relative_difference: if e > 0.0 { (ended - e) / e } else { 0.0 },
+            closed: e > 0.0 && sum(totals.escaped) <= CLOSED_ESCAPE * e,
+            truncated,
+        }
+    }
+
+    /// The warning for a closed scene whose balance is off by more than
+    /// [`ENERGY_WARNING`] (none for a truncated solution, which leaves light
+    /// in flight on purpose).
+    #[must_use]
+    pub fn warning(&self) -> Option<String> {
+        let off = self.relative_difference;
+        let off_by_much = off.is_nan() || off.abs() > ENERGY_WARNING;
+        (self.closed && !self.truncated && off_by_much).then(|| {
+            format!(
+                "the scene is closed, but the power absorbed differs from the power emitted \
+                 by {:+.2}% (more than {}%): the form factors {} light; finer patches or a \
+                 finer hemi-cube may help",
+                100.0 * off,
+                100.0 * ENERGY_WARNING,
+                if off < 0.0 { "lose" } else { "create" }
+            )
+        })
     }
 }
 
@@ -351,5 +423,45 @@ impl MemoryFigures {
             mesh_bytes_per_element: per(mesh_bytes),
             row_bytes_per_element: per(row_bytes),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn totals(emitted: f64, absorbed: f64, back_faces: f64, escaped: f64) -> GatherTotals {
+        GatherTotals {
+            emitted: Rgb::splat(emitted),
+            absorbed: Rgb::splat(absorbed),
+            back_faces: Rgb::splat(back_faces),
+            escaped: Rgb::splat(escaped),
+        }
+    }
+
+    #[test]
+    fn back_faces_count_as_absorbers_in_the_balance() {
+        let e = EnergyBalance::of(&totals(1.0, 0.9, 0.1, 0.0), false);
+        assert!(e.closed);
+        assert!(e.relative_difference.abs() < 1e-15, "{e:?}");
+        assert!(e.warning().is_none());
+    }
+
+    #[test]
+    fn a_closed_scene_off_by_more_than_the_threshold_is_warned_about() {
+        let off = 1.5 * ENERGY_WARNING;
+        let lost = EnergyBalance::of(&totals(1.0, 1.0 - off, 0.0, 0.0), false);
+        let w = lost.warning().expect("a warning");
+        assert!(w.contains("lose") && w.contains("closed"), "{w}");
+        let made = EnergyBalance::of(&totals(1.0, 1.0 + off, 0.0, 0.0), false);
+        assert!(made.warning().expect("a warning").contains("create"));
+        // Within the threshold, truncated on purpose, or open: nothing.
+        let near = EnergyBalance::of(&totals(1.0, 1.0 - 0.5 * ENERGY_WARNING, 0.0, 0.0), false);
+        assert!(near.warning().is_none());
+        assert!(EnergyBalance::of(&totals(1.0, 0.5, 0.0, 0.0), true)
+            .warning()
+            .is_none());
+        let open = EnergyBalance::of(&totals(1.0, 0.6, 0.0, 0.4), false);
+        assert!(!open.closed && open.warning().is_none());
     }
 }

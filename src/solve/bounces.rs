@@ -114,6 +114,7 @@ mod tests {
             rows: vec![row; n],
             reflectance: vec![rho; n],
             emission: vec![e; n],
+            balance: Default::default(),
         }
     }
 
@@ -147,6 +148,7 @@ mod tests {
             rows: vec![vec![], vec![(0, 0.25)]],
             reflectance: vec![Rgb::splat(0.5), Rgb::splat(0.6)],
             emission: vec![Rgb::splat(3.0), Rgb::ZERO],
+            balance: Default::default(),
         };
         assert_eq!(bounced_radiosity(&system, 0)[1], Rgb::ZERO);
         let direct = 0.6 * 0.25 * 3.0;

@@ -1,7 +1,8 @@
 //! One gather from patches to leaf elements.
 
+use super::balance::Balance;
 use super::Radiosity;
-use crate::formfactor::FormFactors;
+use crate::formfactor::{FormFactors, RowView};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use rayon::prelude::*;
@@ -14,6 +15,22 @@ pub struct GatherTotals {
     /// Absorbed power, sum of `A_e (1 - rho_e) H_e` with irradiance
     /// `H_e = sum_j F_ej B_j`.
     pub absorbed: Rgb,
+    /// Power absorbed by back faces: the back of a single-sided surface
+    /// blocks light and reflects none, so what each element sends there,
+    /// `A_e B_e` times its row's back-face form factor, ends there.
+    pub back_faces: Rgb,
+    /// Power that leaves the scene: `A_e B_e` times the form factor of the
+    /// part of each element's view where nothing lies (0 in a closed scene).
+    pub escaped: Rgb,
+}
+
+impl GatherTotals {
+    /// Adds what a leaf of `area` with `radiosity` sends to back faces and out
+    /// of the scene, by its row's `view`.
+    pub(crate) fn add_hidden(&mut self, area: f64, radiosity: Rgb, view: RowView) {
+        self.back_faces += radiosity * (area * view.back_faces);
+        self.escaped += radiosity * (area * view.open);
+    }
 }
 
 /// Sets every leaf's radiosity in `radiosity` to `E + rho sum_j F_ej B_j`
@@ -42,6 +59,10 @@ pub(crate) struct GatherOptions<'a> {
     /// reciprocity: element `e` sends `A_e F_ej B_e` of its power to patch
     /// `j`, which absorbs all of it.
     pub rowless: Option<&'a [bool]>,
+    /// The scales that balance the rows ([`crate::solve::PatchSystem::balance`],
+    /// made for the mesh's current leaves); `None` gathers the rows as they
+    /// are.
+    pub balance: Option<&'a Balance>,
 }
 
 /// [`gather`] with `options`.
@@ -54,33 +75,60 @@ pub(crate) fn gather_with(
 ) -> GatherTotals {
     let leaves: Vec<ElementKey> = mesh.leaves();
     let rowless = options.rowless;
+    let balance = options.balance.filter(|x| !x.seen.is_empty());
+    let seen: Vec<Rgb>;
+    let b_seen = match balance {
+        None => b,
+        Some(balance) => {
+            seen = b
+                .iter()
+                .enumerate()
+                .map(|(j, x)| *x * balance.seen(j))
+                .collect();
+            &seen
+        }
+    };
+    let receiver_scale = |i: usize| {
+        options.balance.map_or(1.0, |x| {
+            debug_assert!(x.receiver.is_empty() || x.receiver.len() == leaves.len());
+            x.receiver(i)
+        })
+    };
     // Per leaf: radiosity, irradiance, and the form factor of its row to
     // patches without rows.
     let results: Vec<(Rgb, Rgb, f64)> = leaves
         .par_iter()
-        .map(|&k| {
+        .enumerate()
+        .map(|(i, &k)| {
             let e = &mesh.elements[k];
             let lattice = &mesh.surfaces[e.surface as usize];
             let entries = form_factors.entries(k);
+            // A receiver that takes no part in the balance gathers by its
+            // row as it is.
+            let (r, b_seen) = if balance.is_some_and(|x| x.is_excluded(e.patch as usize)) {
+                (1.0, b)
+            } else {
+                (receiver_scale(i), b_seen)
+            };
             let h = if options.grey {
                 let mut h = 0.0;
                 for &(j, f) in entries {
-                    h += b[j as usize].0[0] * f64::from(f);
+                    h += b_seen[j as usize].0[0] * f64::from(f);
                 }
-                Rgb::splat(h)
+                Rgb::splat(h * r)
             } else {
                 let mut h = Rgb::ZERO;
                 for &(j, f) in entries {
-                    h += b[j as usize] * f64::from(f);
+                    h += b_seen[j as usize] * f64::from(f);
                 }
-                h
+                h * r
             };
             let to_rowless = rowless.map_or(0.0, |flags| {
                 entries
                     .iter()
                     .filter(|(j, _)| flags[*j as usize])
                     .map(|&(_, f)| f64::from(f))
-                    .sum()
+                    .sum::<f64>()
             });
             let radiosity = if options.grey {
                 let (rho, emission) = (lattice.reflectance.0[0], lattice.emission.0[0]);
@@ -98,6 +146,9 @@ pub(crate) fn gather_with(
         let lattice = &mesh.surfaces[e.surface as usize];
         totals.emitted += lattice.emission * e.area;
         totals.absorbed += (Rgb::ONE - lattice.reflectance) * *h * e.area;
+        if let Some(view) = form_factors.view(k) {
+            totals.add_hidden(e.area, *value, view);
+        }
         if *to_rowless > 0.0 {
             totals.absorbed += *value * (e.area * to_rowless);
         }

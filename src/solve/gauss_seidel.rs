@@ -250,18 +250,35 @@ fn checked_contraction(system: &PatchSystem) -> Result<f64> {
     let q = system.contraction();
     if q.is_nan() || q > MAX_CONTRACTION {
         let (patch, rho, sum) = worst_row(system);
-        let what = if q >= 1.0 {
-            "light would grow without bound"
-        } else {
-            "the system is too close to singular for single-precision form factors"
-        };
+        refuse_unbounded_row(patch, rho, sum)?;
+        // A NaN anywhere else.
         return Err(Error::Solver(format!(
-            "reflectance times form-factor row sum reaches {q:.7} (patch {patch}: reflectance \
-             {rho}, row sum {sum:.7}), above the {MAX_CONTRACTION} allowed: {what}; lower the \
-             reflectances closest to 1"
+            "reflectance times form-factor row sum is {q} (patch {patch}: reflectance {rho}, \
+             row sum {sum}): not a number"
         )));
     }
     Ok(q)
+}
+
+/// The error for patch `patch` of reflectance `rho` (largest band) and row
+/// sum `sum` when their product exceeds [`MAX_CONTRACTION`] (or is not a
+/// number): the system has no meaningful solution. Both solvers refuse such a
+/// scene with it.
+pub(crate) fn refuse_unbounded_row(patch: usize, rho: f64, sum: f64) -> Result<()> {
+    let q = rho * sum;
+    if !q.is_nan() && q <= MAX_CONTRACTION {
+        return Ok(());
+    }
+    let what = if q >= 1.0 || q.is_nan() {
+        "light would grow without bound"
+    } else {
+        "the system is too close to singular for single-precision form factors"
+    };
+    Err(Error::Solver(format!(
+        "reflectance times form-factor row sum reaches {q:.7} (patch {patch}: reflectance \
+         {rho}, row sum {sum:.7}), above the {MAX_CONTRACTION} allowed: {what}; lower the \
+         reflectances closest to 1"
+    )))
 }
 
 /// The iteration itself, on any [`Bands`], with contraction factor `q`.
@@ -389,6 +406,7 @@ mod tests {
             emission: (0..n)
                 .map(|i| Rgb::splat(if i % 5 == 0 { 1.0 + next() } else { 0.0 }))
                 .collect(),
+            balance: Default::default(),
         }
     }
 

@@ -9,6 +9,7 @@ mod common;
 mod converge;
 mod determinism;
 mod enclosures;
+mod energy;
 mod ferren;
 mod hemicube;
 mod hostile_cli;

@@ -88,6 +88,7 @@ fn facing_pair(f: f64, rho: f64) -> PatchSystem {
         rows: vec![vec![(1, f)], vec![(0, f)]],
         reflectance: vec![Rgb::splat(rho); 2],
         emission: vec![Rgb::ONE; 2],
+        balance: Default::default(),
     }
 }
 
@@ -183,6 +184,7 @@ fn random_system(n: usize, seed: u64) -> PatchSystem {
         rows,
         reflectance,
         emission,
+        balance: Default::default(),
     }
 }
 

@@ -180,9 +180,11 @@ pub fn assert_finite_non_negative(sol: &Solution, what: &str) {
     }
 }
 
-/// The relative energy balance in every band (`(absorbed - emitted) / emitted`).
+/// The relative energy balance in every band: `(absorbed - emitted) /
+/// emitted`, counting what back faces absorb (the back of a single-sided
+/// surface blocks light and reflects none).
 pub fn energy_errors(sol: &Solution) -> [f64; 3] {
     let e = sol.stats().energy.emitted_power;
-    let a = sol.stats().energy.absorbed_power;
+    let a = sol.stats().energy.absorbed_power + sol.stats().energy.back_face_power;
     std::array::from_fn(|band| (a[band] - e[band]) / e[band])
 }

@@ -10,14 +10,19 @@ use super::strategy::{Next, Solver};
 use super::workspace::Workspace;
 use super::{Progress, Stage};
 use crate::error::Result;
+use crate::formfactor::compute_rows;
 use crate::math::Rgb;
 use crate::mesh::ElementKey;
 use crate::solution::Solution;
+use crate::solve::balance::{balance, Receiver as BalanceReceiver};
 use crate::solve::progressive::{
-    adopt, ambient_term, HistoryPoint, ProgressiveStats, Receivers, Shooter, ShootingPass,
-    ShootingState, ShotCache, StopReason, Stopping,
+    adopt, ambient_term, regather, settle, HistoryPoint, ProgressiveStats, Receivers, Shooter,
+    ShootingPass, ShootingState, ShotCache, StopReason, Stopping,
 };
-use crate::solve::{GatherTotals, PatchSystem, SolveReport};
+use crate::solve::{
+    dark_patches, refuse_unbounded_row, scene_is_closed, GatherTotals, PatchSystem, SolveReport,
+    MAX_CONTRACTION,
+};
 use std::time::Instant;
 
 /// The preview callback of a progressive solve.
@@ -36,6 +41,13 @@ pub(crate) struct Shooting<'p> {
     /// Whether every leaf has gathered its row once (see
     /// `ProgressiveSettings::gather_rows`), or tried to.
     rows_tried: bool,
+    /// Whether the cache holds every leaf's gathering row and the scene is
+    /// closed, so that shots deliver by the balanced rows, as Gauss-Seidel
+    /// gathers (see [`crate::solve::balance`]).
+    balanced: bool,
+    /// Whether the gathered rows find the scene closed: the leaves are then
+    /// weighed by their exposure, as Gauss-Seidel weighs them.
+    closed: bool,
     /// The unshot fraction now, at the start, and at the last refinement
     /// pass; and where the next history point is due.
     fraction: f64,
@@ -59,7 +71,7 @@ impl Solver for Shooting<'_> {
                 }
             }
             self.shooter.forget_cells();
-            self.fraction = self.state.unshot_fraction();
+            self.fraction = self.unshot_fraction();
             self.last_pass_fraction = self.fraction;
         }
         let ps = &ws.settings.progressive;
@@ -84,7 +96,7 @@ impl Solver for Shooting<'_> {
                 // No refinement pass to gather the rows at.
                 self.gather_rows(ws, 0);
                 self.shooter.forget_cells();
-                self.fraction = self.state.unshot_fraction();
+                self.fraction = self.unshot_fraction();
                 continue;
             }
             if refining && self.fraction <= ps.refine_factor * self.last_pass_fraction {
@@ -94,7 +106,7 @@ impl Solver for Shooting<'_> {
                 return Ok(self.stop_for(StopReason::Converged));
             };
             self.shoot(ws, shooter_patch);
-            self.fraction = self.state.unshot_fraction();
+            self.fraction = self.unshot_fraction();
             self.report_shot(ws);
             if self.shots == 1 || self.fraction <= self.next_history {
                 self.record_history(ws);
@@ -113,20 +125,38 @@ impl Solver for Shooting<'_> {
         self.receivers = Receivers::new(&ws.mesh);
         let (change, new_hemicubes) = if self.rows_tried {
             ws.compute_rows(fresh, pass);
-            // The new leaves gather what was shot as it was shot: from the
-            // exposed parts the patches had then.
-            let change = adopt(
-                &ws.mesh,
-                &mut ws.radiosity,
-                &mut self.state,
-                &ws.form_factors,
-                fresh,
-            );
             self.cache.refine(&ws.mesh, &ws.form_factors, fresh);
+            self.note_closed(ws);
+            let kept = self.figures.rows_gathered_after_shots.is_some();
+            self.balanced = kept && self.closed;
+            let change = if kept {
+                // New rows change the balance of every row: every leaf
+                // gathers what was shot again, by the rows.
+                self.rebalance(ws);
+                let change = self.expose(ws)
+                    + regather(
+                        &ws.mesh,
+                        &mut ws.radiosity,
+                        &mut self.state,
+                        &self.receivers,
+                        &self.cache,
+                    );
+                self.settle(ws);
+                change
+            } else {
+                // The new leaves gather what was shot as it was shot.
+                self.expose(ws)
+                    + adopt(
+                        &ws.mesh,
+                        &mut ws.radiosity,
+                        &mut self.state,
+                        &ws.form_factors,
+                        fresh,
+                    )
+            };
             for &k in fresh {
                 ws.form_factors.release(k);
             }
-            self.expose(ws);
             (change, fresh.len())
         } else {
             self.gather_rows(ws, pass)
@@ -166,9 +196,19 @@ impl Solver for Shooting<'_> {
             let e = &mesh.elements[k];
             emitted += mesh.surfaces[e.surface as usize].emission * e.area;
         }
+        let (mut back_faces, mut escaped) = (Rgb::ZERO, Rgb::ZERO);
+        for k in mesh.leaves() {
+            if let Some(view) = ws.form_factors.view(k) {
+                let area = mesh.elements[k].area;
+                back_faces += ws.radiosity.element(k) * (area * view.back_faces);
+                escaped += ws.radiosity.element(k) * (area * view.open);
+            }
+        }
         let totals = GatherTotals {
             emitted,
             absorbed: self.state.absorbed_power(mesh),
+            back_faces,
+            escaped,
         };
         // The shots' factors live in the shot cache, not in the store: the
         // system holds reflectance and emission with empty rows.
@@ -185,7 +225,7 @@ impl Solver for Shooting<'_> {
         f.shots = self.shots;
         f.stop = self.stop;
         f.unshot_fraction = self.fraction;
-        f.ambient = ambient_term(&ws.mesh, &self.state.unshot);
+        f.ambient = ambient_term(&ws.mesh, &self.state.unshot, &self.state.exposure);
         f.mean_implied_row_sum = if self.shots > 0 {
             self.row_sum_total / self.shots as f64
         } else {
@@ -193,6 +233,8 @@ impl Solver for Shooting<'_> {
         };
         ws.stats.hemicube.mean_row_sum = f.mean_implied_row_sum;
         ws.stats.hemicube.max_row_sum = f.max_implied_row_sum;
+        ws.stats.energy.truncated |= self.stop != StopReason::Converged;
+        ws.stats.warn();
         ws.stats.progressive = Some(std::mem::take(f));
         ws.stats.seconds.total = ws.started.elapsed().as_secs_f64();
         Solution {
@@ -214,9 +256,10 @@ impl<'p> Shooting<'p> {
     ) -> Result<Self> {
         let settings = ws.settings;
         let ps = &settings.progressive;
+        refuse_unbounded(ws)?;
         let mut state = ShootingState::new(&ws.mesh);
         let receivers = Receivers::new(&ws.mesh);
-        state.expose(&ws.mesh, &receivers);
+        state.expose(&ws.mesh, &ws.radiosity, &receivers);
         let fraction = state.unshot_fraction();
         Ok(Shooting {
             preview,
@@ -236,6 +279,8 @@ impl<'p> Shooting<'p> {
             shots: 0,
             row_sum_total: 0.0,
             rows_tried: !ps.gather_rows,
+            balanced: false,
+            closed: false,
             fraction,
             initial_fraction: fraction,
             last_pass_fraction: fraction,
@@ -297,6 +342,9 @@ impl<'p> Shooting<'p> {
         if (0..3).any(|b| after[b] > before[b] * (1.0 + 1e-12)) {
             self.figures.unshot_increases += 1;
         }
+        // Shooting the light of one patch while others hold negative
+        // corrections can leave more light delivered than was emitted.
+        self.settle(ws);
         ws.stats.seconds.solve += t.elapsed().as_secs_f64();
 
         self.shots += 1;
@@ -346,7 +394,7 @@ impl<'p> Shooting<'p> {
             callback(&Preview {
                 shots: self.shots,
                 unshot_fraction: self.fraction,
-                ambient: ambient_term(&ws.mesh, &self.state.unshot),
+                ambient: ambient_term(&ws.mesh, &self.state.unshot, &self.state.exposure),
                 seconds: ws.started.elapsed().as_secs_f64(),
                 mesh: &ws.mesh,
                 radiosity: &ws.radiosity,
@@ -362,21 +410,14 @@ impl<'p> Shooting<'p> {
         self.rows_tried = true;
         let leaves = ws.mesh.leaves();
         ws.compute_rows(&leaves, pass);
-        // What was shot is gathered again from the exposed part of each
-        // patch, as the rows find it.
-        self.expose(ws);
-        let change = adopt(
-            &ws.mesh,
-            &mut ws.radiosity,
-            &mut self.state,
-            &ws.form_factors,
-            &leaves,
-        );
+        self.note_closed(ws);
         if self
             .cache
             .gather(ws.mesh.patches.len(), &ws.form_factors, &leaves)
         {
             self.figures.rows_gathered_after_shots = Some(self.shots);
+            self.balanced = self.closed;
+            self.rebalance(ws);
         } else {
             // Too many for the budget: shots go on rendering, and what the
             // cache held for leaves a pass just replaced is stale.
@@ -385,6 +426,16 @@ impl<'p> Shooting<'p> {
                 ws.settings.progressive.shot_cache_bytes,
             );
         }
+        // What was shot is gathered again, by the rows, from each patch as
+        // its exposure weighs it.
+        let change = self.expose(ws)
+            + adopt(
+                &ws.mesh,
+                &mut ws.radiosity,
+                &mut self.state,
+                &ws.form_factors,
+                &leaves,
+            );
         // The cache holds the entries now (or shots render them again).
         for &k in &leaves {
             ws.form_factors.release(k);
@@ -392,15 +443,111 @@ impl<'p> Shooting<'p> {
         (change, leaves.len())
     }
 
-    /// Takes the patches' exposed parts from the receivers, with the rows'
-    /// verdict in place of the fan of rays wherever a leaf has a row.
-    fn expose(&mut self, ws: &Workspace<'_>) {
+    /// Takes the leaves' exposure from the receivers, with the rows' verdict
+    /// in place of the fan of rays wherever a leaf has a row: its row sum in a
+    /// closed scene, else 1 if it sees any front face. Returns the change in
+    /// unshot power.
+    fn expose(&mut self, ws: &Workspace<'_>) -> Rgb {
         for (i, k) in self.receivers.leaves.iter().enumerate() {
-            let state = ws.form_factors.state(*k);
-            if state.is_computed() {
-                self.receivers.exposed[i] = state.is_exposed();
+            if let Some(view) = ws.form_factors.view(*k) {
+                let seen = view.sum > 0.0;
+                self.receivers.exposed[i] = seen;
+                self.receivers.exposure[i] = match (self.closed, seen) {
+                    (true, _) => view.sum,
+                    (false, true) => 1.0,
+                    (false, false) => 0.0,
+                };
             }
         }
-        self.state.expose(&ws.mesh, &self.receivers);
+        self.state.expose(&ws.mesh, &ws.radiosity, &self.receivers)
     }
+
+    /// Whether the rows computed so far find the scene closed (as
+    /// [`crate::solve::balance::is_closed`] judges it).
+    fn note_closed(&mut self, ws: &Workspace<'_>) {
+        let computed: Vec<ElementKey> = ws
+            .mesh
+            .leaves()
+            .into_iter()
+            .filter(|k| ws.form_factors.view(*k).is_some())
+            .collect();
+        self.closed = scene_is_closed(&ws.mesh, &ws.form_factors, &computed);
+    }
+
+    /// Balances the rows the cache holds (see [`crate::solve::balance`]), as
+    /// the Gauss-Seidel path balances its rows, and has the shots deliver by
+    /// them.
+    fn rebalance(&mut self, ws: &Workspace<'_>) {
+        if !self.balanced {
+            self.state.set_balance(&self.receivers, None);
+            return;
+        }
+        let rows = self.cache.rows(&self.receivers);
+        let receivers: Vec<BalanceReceiver<'_>> = rows
+            .iter()
+            .zip(&self.receivers.leaves)
+            .zip(&self.receivers.areas)
+            .map(|((row, k), &area)| BalanceReceiver {
+                patch: ws.mesh.elements[*k].patch,
+                area,
+                entries: row,
+            })
+            .collect();
+        let b = balance(&receivers, ws.mesh.patches.len(), &dark_patches(&ws.mesh));
+        self.state.set_balance(&self.receivers, Some(&b));
+    }
+
+    /// Where a band's signed unshot power has gone negative under balanced
+    /// rows, scales what has been shot back (see `settle`).
+    fn settle(&mut self, ws: &mut Workspace<'_>) {
+        if self.balanced
+            && settle(
+                &ws.mesh,
+                &mut ws.radiosity,
+                &mut self.state,
+                &self.receivers,
+            )
+        {
+            self.figures.settled += 1;
+        }
+    }
+
+    /// The unshot fraction (magnitudes) now; notes the signed one's lowest.
+    fn unshot_fraction(&mut self) -> f64 {
+        let emitted = self.state.emitted_power();
+        if emitted > 0.0 {
+            let signed = self.state.signed_unshot_power().0.iter().sum::<f64>() / emitted;
+            let lowest = &mut self.figures.lowest_signed_unshot_fraction;
+            *lowest = lowest.min(signed);
+        }
+        self.state.unshot_fraction()
+    }
+}
+
+/// Refuses a scene whose system Gauss-Seidel would refuse: one where some
+/// patch's reflectance times its row sum exceeds [`MAX_CONTRACTION`] (a closed
+/// room with a wall of reflectance 1, where light would never die out).
+/// Only a reflectance above that bound can do it, so only the leaves of such
+/// patches render their gathering rows here, and the patch's row sum is the
+/// one the Gauss-Seidel path's patch system gives it: the exposure-weighted
+/// mean of its leaves' row sums.
+fn refuse_unbounded(ws: &Workspace<'_>) -> Result<()> {
+    let mesh = &ws.mesh;
+    for p in 0..mesh.patches.len() as u32 {
+        let rho = mesh.patch_reflectance(p).max_band();
+        if rho <= MAX_CONTRACTION {
+            continue;
+        }
+        let leaves = mesh.patch_leaves(p);
+        let (rows, _) = compute_rows(mesh, &ws.sources, &leaves, &ws.plan.settings, &|_| {});
+        let (mut weighted, mut total) = (0.0, 0.0);
+        for (k, row) in leaves.iter().zip(&rows) {
+            let w = mesh.elements[*k].area * row.sum();
+            weighted += w * row.sum();
+            total += w;
+        }
+        let sum = if total > 0.0 { weighted / total } else { 0.0 };
+        refuse_unbounded_row(p as usize, rho, sum)?;
+    }
+    Ok(())
 }

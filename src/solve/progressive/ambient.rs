@@ -10,15 +10,17 @@
 use crate::math::Rgb;
 use crate::mesh::Mesh;
 
-/// The ambient radiosity per band for the patches' `unshot` radiosities. A band
-/// with no absorption anywhere has no finite ambient estimate and gets 0.
+/// The ambient radiosity per band for the patches' `unshot` radiosities,
+/// each sent from its patch's `exposure` (see
+/// [`super::ShootingState::exposure`]). A band with no absorption anywhere
+/// has no finite ambient estimate and gets 0.
 #[must_use]
-pub(crate) fn ambient_term(mesh: &Mesh, unshot: &[Rgb]) -> Rgb {
+pub(crate) fn ambient_term(mesh: &Mesh, unshot: &[Rgb], exposure: &[f64]) -> Rgb {
     let mut unshot_power = Rgb::ZERO;
     let mut area = 0.0;
     let mut reflecting = Rgb::ZERO;
-    for (p, u) in mesh.patches.iter().zip(unshot) {
-        unshot_power += *u * p.area;
+    for ((p, u), w) in mesh.patches.iter().zip(unshot).zip(exposure) {
+        unshot_power += *u * *w;
         area += p.area;
         reflecting += mesh.surfaces[p.surface as usize].reflectance * p.area;
     }

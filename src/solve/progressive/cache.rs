@@ -15,6 +15,7 @@
 //! leaf `e` to patch `j` is the factor a shot of `j` needs). So no cached patch
 //! renders again when the mesh changes.
 
+use super::Receivers;
 use crate::formfactor::FormFactors;
 use crate::mesh::{ElementKey, Mesh};
 
@@ -133,6 +134,25 @@ impl ShotCache {
         // A pass adds entries without asking the budget (dropping patches
         // here would cost renders for no memory gained back this pass); the
         // next stores see the total.
+    }
+
+    /// The gathering rows of every leaf of `receivers` (in their order), as
+    /// far as the cache holds them: the transpose of the factors of every
+    /// patch kept from gathered rows. Empty rows where it holds none.
+    #[must_use]
+    pub(crate) fn rows(&self, receivers: &Receivers) -> Vec<Vec<(u32, f32)>> {
+        let mut rows = vec![Vec::new(); receivers.len()];
+        for (j, cached) in self.patches.iter().enumerate() {
+            let Some(c) = cached.as_ref().filter(|c| c.depth == u8::MAX) else {
+                continue;
+            };
+            for &(k, f) in &c.factors {
+                if let Some(&i) = receivers.index.get(k) {
+                    rows[i as usize].push((j as u32, f as f32));
+                }
+            }
+        }
+        rows
     }
 
     /// Entries held, over all patches.

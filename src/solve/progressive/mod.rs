@@ -50,7 +50,7 @@ mod visibility;
 
 pub(crate) use ambient::ambient_term;
 pub(crate) use cache::ShotCache;
-pub(crate) use newborn::adopt;
+pub(crate) use newborn::{adopt, regather, settle};
 pub(crate) use receivers::Receivers;
 pub use report::{HistoryPoint, ProgressiveStats, ShootingPass};
 pub use settings::{ProgressiveSettings, SolverKind, MAX_SHOOTER_DEPTH};

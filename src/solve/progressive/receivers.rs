@@ -5,6 +5,7 @@ use crate::formfactor::{receiving_point, Occluders, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 use rayon::prelude::*;
+use slotmap::SecondaryMap;
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -21,6 +22,8 @@ pub(crate) struct Receivers {
     /// The leaves of each patch: a range of leaf indices (leaves are stored
     /// patch by patch).
     pub patch_leaves: Vec<Range<u32>>,
+    /// Position of each leaf in `leaves`.
+    pub index: SecondaryMap<ElementKey, u32>,
     /// Where each leaf receives: its centroid lifted off the surface by a
     /// distance relative to its own size (as its gathering hemi-cube would be).
     pub eyes: Vec<DVec3>,
@@ -35,6 +38,11 @@ pub(crate) struct Receivers {
     /// part of it the shooters see (none, if it lies wholly under the box).
     /// Once rows are gathered, the rows decide instead.
     pub exposed: Vec<bool>,
+    /// The exposure of each leaf: the part of its view that front faces fill,
+    /// its weight (times its area) in its patch's radiosity as a source. Its
+    /// gathering row's sum once it has one; before, 1 where `exposed` and 0
+    /// where not.
+    pub exposure: Vec<f64>,
     /// Every patch of `patch_sources` as an occluder, for shadow rays.
     pub occluders: Arc<Occluders>,
 }
@@ -45,6 +53,7 @@ impl Receivers {
     pub(crate) fn new(mesh: &Mesh) -> Self {
         let leaves = mesh.leaves();
         let sources = Sources::from_elements(mesh, &leaves);
+        let mut index = SecondaryMap::new();
         let mut eyes = Vec::with_capacity(leaves.len());
         let mut normals = Vec::with_capacity(leaves.len());
         let mut areas = Vec::with_capacity(leaves.len());
@@ -52,6 +61,7 @@ impl Receivers {
         for (i, &k) in leaves.iter().enumerate() {
             let e = &mesh.elements[k];
             let n = mesh.surfaces[e.surface as usize].normal;
+            index.insert(k, i as u32);
             let range = &mut patch_leaves[e.patch as usize];
             if range.start == range.end {
                 *range = i as u32..i as u32;
@@ -63,7 +73,7 @@ impl Receivers {
         }
         let patch_sources = Sources::from_mesh(mesh);
         let occluders = Occluders::new(&patch_sources);
-        let exposed = leaves
+        let exposed: Vec<bool> = leaves
             .par_iter()
             .zip(&eyes)
             .zip(&normals)
@@ -72,15 +82,18 @@ impl Receivers {
                 !occluders.is_shut_in(&patch_sources, *eye, *normal, surface)
             })
             .collect();
+        let exposure = exposed.iter().map(|&x| if x { 1.0 } else { 0.0 }).collect();
         Receivers {
             leaves,
             sources,
             patch_sources,
             patch_leaves,
+            index,
             eyes,
             normals,
             areas,
             exposed,
+            exposure,
             occluders: Arc::new(occluders),
         }
     }

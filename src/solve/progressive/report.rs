@@ -41,6 +41,18 @@ pub struct ProgressiveStats {
     pub stop: StopReason,
     /// Unshot power over emitted power at the end, bands summed.
     pub unshot_fraction: f64,
+    /// The lowest the signed unshot power (bands summed, over emitted power)
+    /// fell below zero during the solve (0 if it never did). Light still to be delivered cannot be less than
+    /// none, so in a solve that conserves energy it stays above minus the
+    /// stopping tolerance: it is negative only while corrections (a
+    /// refinement pass, the gathered rows) take back light already shot, and
+    /// then by no more than they take back.
+    pub lowest_signed_unshot_fraction: f64,
+    /// Times what had been shot was scaled back because the signed unshot
+    /// power of a band had fallen below zero (see `settle`): after a
+    /// refinement pass took back light already shot, or a shot of positive
+    /// light while other patches held negative corrections.
+    pub settled: usize,
     /// The ambient term at the end (display only; not in the solution).
     pub ambient: Rgb,
     /// Shooter cell depth below each shooting patch, for the fine shots.
@@ -70,15 +82,15 @@ pub struct ProgressiveStats {
     /// Shooter cells that shot nothing: all their leaves are shut in, or their
     /// eye still is at the deepest split.
     pub hidden_cells: usize,
-    /// Shots whose implied row sum exceeded 1 (point sampling of receivers
-    /// that straddle an occluder's foot; not corrected, as gathering does not
-    /// correct it either).
+    /// Shots whose implied row sum exceeded 1 (point sampling of the
+    /// receivers, in particular of those that straddle an occluder's foot).
     pub row_sums_above_one: usize,
-    /// Shots whose reflected part `sum_e rho_e F_ei A_e / A_i` exceeded 1 in
-    /// some band (they would have raised the unshot power) and were scaled
-    /// back to 1.
+    /// Shots whose reflected part `sum_e rho_e F_ei A_e / W_i` (with the
+    /// balance's scales) exceeded 1 in some band (they would have raised the
+    /// unshot power) and were scaled back to 1.
     pub scaled_shots: usize,
-    /// Mean implied row sum of the shots, `sum_e F_ei A_e / A_i`.
+    /// Mean implied row sum of the shots, `sum_e F_ei A_e / W_i` with `W_i`
+    /// the shooting patch's exposure.
     pub mean_implied_row_sum: f64,
     /// Largest implied row sum before scaling.
     pub max_implied_row_sum: f64,

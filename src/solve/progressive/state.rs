@@ -4,27 +4,35 @@
 use super::Receivers;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
+use crate::solve::balance::Balance;
 use crate::solve::Radiosity;
 use slotmap::SecondaryMap;
 
 /// What one shot delivered.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Delivery {
-    /// `sum_e F_ei s A_e / A_i` before any scaling back (1 in a closed scene).
+    /// `sum_e F_ei A_e / W_i` (`W_i` the patch's exposure), unscaled: 1 in a
+    /// closed scene up to the point sampling of the receivers.
     pub implied_row_sum: f64,
-    /// True when the reflected part of the implied row sum exceeded 1 in
+    /// True when the reflected part of what the shot delivers exceeded 1 in
     /// some band and the shot was scaled back.
     pub scaled: bool,
 }
 
 /// The bookkeeping of a progressive solve.
 ///
+/// A patch's radiosity here is its radiosity as a source: the mean of its
+/// leaves' radiosities weighted by their exposure (area times the part of
+/// their view that front faces fill), as the Gauss-Seidel path's patch system
+/// has it (see [`crate::solve::PatchSystem`]). A leaf shut inside an object
+/// has no weight, a leaf that sees the room only through a gap little.
+///
 /// Invariants (up to rounding): a leaf's radiosity is `E + rho H` with `H` its
-/// irradiance; a patch's radiosity is the area mean of its leaves; and
-/// `radiosity = shot + unshot` for every patch.
+/// irradiance; a patch's radiosity is the exposure-weighted mean of its
+/// leaves; and `radiosity = shot + unshot` for every patch.
 #[derive(Clone, Debug)]
 pub(crate) struct ShootingState {
-    /// Radiosity of each patch.
+    /// Radiosity of each patch as a source.
     pub radiosity: Vec<Rgb>,
     /// Radiosity each patch has received (or emits) but not yet shot.
     pub unshot: Vec<Rgb>,
@@ -32,15 +40,32 @@ pub(crate) struct ShootingState {
     pub shot: Vec<Rgb>,
     /// Irradiance (received flux per area) of each leaf element.
     pub irradiance: SecondaryMap<ElementKey, Rgb>,
-    /// Per patch, its area over the area of its exposed leaves (see
-    /// [`ShootingState::expose`]).
-    pub open_scale: Vec<f64>,
+    /// Per patch, its exposure: the sum of its leaves' weights (see
+    /// [`ShootingState::expose`]). A shot of unshot radiosity `u` sends `u`
+    /// times this to front faces.
+    pub exposure: Vec<f64>,
+    /// Per leaf, its weight in its patch's radiosity: area times exposure.
+    weights: SecondaryMap<ElementKey, f64>,
+    /// The scales that balance the gathering rows, once shots deliver by
+    /// them (see [`ShootingState::set_balance`]).
+    balance: Option<Scales>,
     areas: Vec<f64>,
     emitted_power: f64,
 }
 
+/// The balance of the gathering rows, keyed for shots.
+#[derive(Clone, Debug)]
+struct Scales {
+    /// Per patch, `c_j`.
+    seen: Vec<f64>,
+    /// Per leaf, `r_e`.
+    receiver: SecondaryMap<ElementKey, f64>,
+}
+
 impl ShootingState {
-    /// The state before the first shot: every patch holds its emission, unshot.
+    /// The state before the first shot: every patch holds its emission, unshot,
+    /// and every leaf counts with its whole area until [`ShootingState::expose`]
+    /// says otherwise.
     #[must_use]
     pub(crate) fn new(mesh: &Mesh) -> Self {
         let emission: Vec<Rgb> = (0..mesh.patches.len() as u32)
@@ -53,52 +78,90 @@ impl ShootingState {
             .map(|(e, a)| e.0.iter().sum::<f64>() * a)
             .sum();
         let mut irradiance = SecondaryMap::new();
+        let mut weights = SecondaryMap::new();
         for k in mesh.leaves() {
             irradiance.insert(k, Rgb::ZERO);
+            weights.insert(k, mesh.elements[k].area);
         }
         ShootingState {
             radiosity: emission.clone(),
             unshot: emission,
             shot: vec![Rgb::ZERO; areas.len()],
-            open_scale: vec![1.0; areas.len()],
+            exposure: areas.clone(),
+            weights,
+            balance: None,
             irradiance,
             areas,
             emitted_power,
         }
     }
 
-    /// Takes each patch's exposed leaves from `receivers` (after every change
-    /// of the mesh). Leaves shut inside an object receive nothing, so the
-    /// patch's unshot power, an average over all of it, all sits on its
-    /// exposed part: that part's radiosity is the average times the patch's
-    /// area over the exposed area, the open scale. Gathering likewise lets
-    /// the exposed elements alone stand for the patch.
-    pub(crate) fn expose(&mut self, mesh: &Mesh, receivers: &Receivers) {
-        for (p, range) in receivers.patch_leaves.iter().enumerate() {
-            let exposed: f64 = range
-                .clone()
-                .filter(|&i| receivers.exposed[i as usize])
-                .map(|i| receivers.areas[i as usize])
-                .sum();
-            let area = mesh.patches[p].area;
-            self.open_scale[p] = if exposed > 0.0 && exposed < area {
-                area / exposed
-            } else {
-                1.0
-            };
+    /// Takes each leaf's exposure from `receivers` (after every change of the
+    /// mesh, and when gathered rows replace the fan of rays): its weight in
+    /// its patch's radiosity becomes its area times that exposure. Then every
+    /// patch's radiosity is the weighted mean of its leaves again, and the
+    /// change is unshot (see [`ShootingState::resum_patch`]).
+    ///
+    /// Leaves shut inside an object receive nothing and send nothing, so the
+    /// patch's unshot power all sits on its exposed part; gathering likewise
+    /// lets the exposed elements alone stand for the patch.
+    pub(crate) fn expose(
+        &mut self,
+        mesh: &Mesh,
+        radiosity: &Radiosity,
+        receivers: &Receivers,
+    ) -> Rgb {
+        self.weights.clear();
+        for (i, &k) in receivers.leaves.iter().enumerate() {
+            self.weights
+                .insert(k, receivers.areas[i] * receivers.exposure[i]);
         }
+        let mut change = Rgb::ZERO;
+        for p in 0..mesh.patches.len() as u32 {
+            change += self.resum_patch(mesh, radiosity, p) * self.exposure[p as usize];
+        }
+        change
+    }
+
+    /// From now on, shots deliver by balanced rows: a shot of patch `j`
+    /// reaches leaf `e` by `r_e F_ej c_j` (see [`crate::solve::balance`]),
+    /// with `receiver[i]` the scale of `receivers.leaves[i]`. `None` delivers
+    /// by the factors as they are.
+    pub(crate) fn set_balance(&mut self, receivers: &Receivers, balance: Option<&Balance>) {
+        self.balance = balance.map(|b| Scales {
+            seen: b.seen.clone(),
+            receiver: receivers
+                .leaves
+                .iter()
+                .enumerate()
+                .map(|(i, &k)| (k, b.receiver(i)))
+                .collect(),
+        });
+    }
+
+    /// The factor by which a shot of patch `p` reaches leaf `k`, beyond its
+    /// form factor: the balance's `c_p r_k`, or 1.
+    #[must_use]
+    pub(crate) fn delivery_scale(&self, p: u32, k: ElementKey) -> f64 {
+        self.balance.as_ref().map_or(1.0, |s| {
+            s.seen.get(p as usize).copied().unwrap_or(1.0)
+                * s.receiver.get(k).copied().unwrap_or(1.0)
+        })
     }
 
     /// Shoots patch `p`'s unshot radiosity to the leaves of `factors` (`F_ei`
-    /// from each leaf to the patch, without the open scale): each receives
-    /// `u * s * F_ei` with `u` the unshot radiosity and `s` the open scale.
+    /// from each leaf to the patch): each receives `u * F_ei` times the
+    /// balance's scales, with `u` the unshot radiosity.
     ///
-    /// The implied row sum `sum_e F_ei s A_e / A_i` is 1 in a closed scene, up
-    /// to the point sampling of each receiver (a leaf that straddles an
-    /// occluder's foot counts all its area, as it does when it gathers). Only
-    /// where the reflected part `sum_e rho_e F_ei s A_e / A_i` would exceed 1
-    /// in some band, so that the shot would create unshot power, is the shot
-    /// scaled back, and said so.
+    /// The shot sends `u W_i` to front faces (`W_i` the patch's exposure) and
+    /// delivers `u sum_e F_ei A_e` times the scales: with balanced rows, the
+    /// same. Shooter-side factors carry the point sampling of each receiver
+    /// (the implied row sum `sum_e F_ei A_e / W_i` is not quite 1 even in a
+    /// closed scene, and the shooter's cells cannot tell how much of it is
+    /// sampling and how much open sky). Only where the reflected part of what
+    /// a shot delivers, `sum_e rho_e F_ei A_e / W_i` with the scales, would
+    /// exceed 1 in some band, so that the shot would raise the unshot power,
+    /// is the shot scaled back, and said so.
     pub(crate) fn deliver(
         &mut self,
         mesh: &Mesh,
@@ -106,25 +169,26 @@ impl ShootingState {
         p: u32,
         factors: &[(ElementKey, f64)],
     ) -> Delivery {
-        let area = self.areas[p as usize];
-        let scale = self.open_scale[p as usize];
+        let exposure = self.exposure[p as usize];
         let mut row_sum = 0.0;
         let mut reflected = Rgb::ZERO;
         for &(k, f) in factors {
             let e = &mesh.elements[k];
-            let w = f * scale * e.area / area;
+            let w = f * e.area / exposure;
             row_sum += w;
-            reflected += mesh.surfaces[e.surface as usize].reflectance * w;
+            reflected +=
+                mesh.surfaces[e.surface as usize].reflectance * (w * self.delivery_scale(p, k));
         }
         let worst = reflected.max_band();
         let scaled = worst > 1.0;
-        let factor = if scaled { scale / worst } else { scale };
+        let factor = if scaled { 1.0 / worst } else { 1.0 };
         let unshot = self.take_unshot(p);
         for &(k, f) in factors {
-            self.receive(mesh, radiosity, k, unshot * (f * factor));
+            let h = unshot * (f * factor * self.delivery_scale(p, k));
+            self.receive(mesh, radiosity, k, h);
         }
         Delivery {
-            implied_row_sum: row_sum,
+            implied_row_sum: if exposure > 0.0 { row_sum } else { 0.0 },
             scaled,
         }
     }
@@ -154,18 +218,31 @@ impl ShootingState {
         best.map(|(p, _)| p)
     }
 
-    /// Unshot power of patch `p`, bands summed (magnitudes).
+    /// Unshot power of patch `p`, bands summed (magnitudes): its unshot
+    /// radiosity times its exposure, what a shot would send to front faces.
     #[must_use]
     pub(crate) fn unshot_power_of(&self, p: u32) -> f64 {
-        self.unshot[p as usize].abs().0.iter().sum::<f64>() * self.areas[p as usize]
+        self.unshot[p as usize].abs().0.iter().sum::<f64>() * self.exposure[p as usize]
     }
 
     /// Unshot power per band, magnitudes summed over patches.
     #[must_use]
     pub(crate) fn unshot_power(&self) -> Rgb {
         let mut sum = Rgb::ZERO;
-        for (u, a) in self.unshot.iter().zip(&self.areas) {
-            sum += u.abs() * *a;
+        for (u, w) in self.unshot.iter().zip(&self.exposure) {
+            sum += u.abs() * *w;
+        }
+        sum
+    }
+
+    /// Unshot power per band, signed: the light still to be delivered (never
+    /// negative in a solve that conserves energy, since it is what has been
+    /// emitted and not yet absorbed or lost).
+    #[must_use]
+    pub(crate) fn signed_unshot_power(&self) -> Rgb {
+        let mut sum = Rgb::ZERO;
+        for (u, w) in self.unshot.iter().zip(&self.exposure) {
+            sum += *u * *w;
         }
         sum
     }
@@ -198,7 +275,8 @@ impl ShootingState {
     }
 
     /// Leaf `key` receives irradiance `h`: its radiosity grows by `rho h`, and
-    /// its patch's radiosity and unshot radiosity by the area-weighted share.
+    /// its patch's radiosity and unshot radiosity by the exposure-weighted
+    /// share (none for a leaf with no exposure, which sends nothing).
     pub(crate) fn receive(
         &mut self,
         mesh: &Mesh,
@@ -216,9 +294,12 @@ impl ShootingState {
             self.irradiance.insert(key, h);
         }
         let p = e.patch as usize;
-        let share = db * (e.area / self.areas[p]);
-        self.radiosity[p] += share;
-        self.unshot[p] += share;
+        let w = self.weights.get(key).copied().unwrap_or(e.area);
+        if self.exposure[p] > 0.0 {
+            let share = db * (w / self.exposure[p]);
+            self.radiosity[p] += share;
+            self.unshot[p] += share;
+        }
     }
 
     /// Sets a new leaf's irradiance outright (after a gather) and its radiosity
@@ -237,15 +318,26 @@ impl ShootingState {
         self.irradiance.insert(key, h);
     }
 
-    /// Recomputes patch `p`'s radiosity as the area mean of its leaves, and
-    /// moves the change into its unshot radiosity so that what it has shot
+    /// Recomputes patch `p`'s exposure and radiosity, the weighted mean of
+    /// its leaves (the area mean where no leaf is exposed), and moves the
+    /// change of radiosity into its unshot radiosity so that what it has shot
     /// stays what it has shot. Returns the change in radiosity.
     pub(crate) fn resum_patch(&mut self, mesh: &Mesh, radiosity: &Radiosity, p: u32) -> Rgb {
-        let mut sum = Rgb::ZERO;
+        let (mut sum, mut total, mut area_sum) = (Rgb::ZERO, 0.0, Rgb::ZERO);
         for k in mesh.patch_leaves(p) {
-            sum += radiosity.element(k) * mesh.elements[k].area;
+            let e = &mesh.elements[k];
+            let b = radiosity.element(k);
+            let w = self.weights.get(k).copied().unwrap_or(e.area);
+            sum += b * w;
+            total += w;
+            area_sum += b * e.area;
         }
-        let b = sum / self.areas[p as usize];
+        self.exposure[p as usize] = total;
+        let b = if total > 0.0 {
+            sum / total
+        } else {
+            area_sum / self.areas[p as usize]
+        };
         let change = b - self.radiosity[p as usize];
         self.radiosity[p as usize] = b;
         self.unshot[p as usize] += change;
