@@ -47,7 +47,7 @@
 //!   Lambert's exact formula for the magnitude of what is seen and exact
 //!   visibility of emitters; kept per element in a [`formfactor::FormFactors`]
 //!   store with the state of each row.
-//! - [`solve`]: the patch system assembled from the rows, solved by
+//! - [`solve`](mod@solve): the patch system assembled from the rows, solved by
 //!   Gauss-Seidel ([`solve::gauss_seidel`]) or by progressive shooting
 //!   ([`solve::progressive`]), and the gather to elements; the result is a
 //!   [`solve::Radiosity`] per element and patch.
@@ -59,7 +59,7 @@
 //!   views, radiosity at points, the display mesh.
 //! - [`render`]: images from any camera, tone mapping, HDR and PNG files;
 //!   [`output`] writes every file whole or not at all.
-//! - [`reference`]: a path tracer independent of all the above, for ground
+//! - [`reference`](mod@reference): a path tracer independent of all the above, for ground
 //!   truth; [`analytic`]: exact form factors and solutions for tests.
 //! - [`math`]: colour triples and polygon helpers; [`error`]: the error type.
 #![warn(missing_docs, unreachable_pub)]

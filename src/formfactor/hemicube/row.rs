@@ -1,0 +1,170 @@
+//! Rows out of the item buffer: the entry points that render it and sum the
+//! delta form factors each patch won.
+
+use super::{Drawn, Hemicube, BACK_FACE};
+use crate::formfactor::{EmitterVisibility, FormFactorMethod, Row, Sources};
+use glam::DVec3;
+use std::sync::Arc;
+
+impl Hemicube {
+    /// The form factors from a differential area at `eye` with unit `normal` to
+    /// every patch of `sources`, skipping patches on `own_surface` (a planar
+    /// surface cannot see itself). `angle` rotates the hemi-cube about the normal,
+    /// which decorrelates the aliasing of neighbouring receivers. `method` says
+    /// how pixels become form factors. Emitters are treated as every other
+    /// patch: their visibility is the item buffer's.
+    pub fn row(
+        &mut self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+        method: FormFactorMethod,
+    ) -> Row {
+        self.row_hiding(sources, None, eye, normal, angle, own_surface, method, None)
+    }
+
+    /// [`Hemicube::row`], not drawing the back faces of the surfaces `s`
+    /// of the sources for which `hidden_back[s]` is true: back faces that
+    /// front faces of their own object hide from `eye`, as
+    /// `crate::formfactor::ClosedObjects::hidden_from` finds them. The row
+    /// is then the same but where a back face would have won a silhouette
+    /// pixel from the front face at equal depth.
+    /// With `emitter_rays` (the occluders and a seed), the hybrid method finds
+    /// the visibility of emitters that the item buffer saw only in part from
+    /// the occluders themselves.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn row_hiding(
+        &mut self,
+        sources: &Sources,
+        hidden_back: Option<&[bool]>,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+        method: FormFactorMethod,
+        emitter_rays: Option<EmitterVisibility<'_>>,
+    ) -> Row {
+        let hybrid = method == FormFactorMethod::Hybrid;
+        self.render::<true>(
+            sources,
+            hidden_back,
+            eye,
+            normal,
+            angle,
+            own_surface,
+            hybrid,
+        );
+        let (mut row, front, back) = self.accumulate();
+        // The delta form factors sum to exactly 1, so what neither a front
+        // nor a back face won is open sky.
+        let open = (1.0 - front - back).max(0.0);
+        if hybrid {
+            row = self.hybrid(
+                row,
+                front,
+                open,
+                sources,
+                eye,
+                normal,
+                own_surface,
+                emitter_rays,
+            );
+        }
+        for id in self.covered_touched.drain(..) {
+            self.covered[id as usize] = 0.0;
+            self.covered_pixels[id as usize] = 0;
+        }
+        row.with_hidden(back, open)
+    }
+
+    /// Benchmark hook, not for use: renders the item buffer as
+    /// [`Hemicube::row`] does with the classic method, but with `FILL` false
+    /// stops each polygon after it is transformed, culled, clipped and
+    /// projected and its rows found (no edge walk, no pixel), so that a bench
+    /// can time the stages apart.
+    #[doc(hidden)]
+    pub fn render_stage<const FILL: bool>(
+        &mut self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        angle: f64,
+        own_surface: u32,
+    ) {
+        self.render::<FILL>(sources, None, eye, normal, angle, own_surface, false);
+        for id in self.covered_touched.drain(..) {
+            self.covered[id as usize] = 0.0;
+            self.covered_pixels[id as usize] = 0;
+        }
+    }
+
+    /// Sums delta form factors per patch and returns the sparse row, with
+    /// the delta form factors of all the pixels front faces won and of those
+    /// back faces won.
+    pub(super) fn accumulate(&mut self) -> (Row, f64, f64) {
+        let back = self.sum_won();
+        self.touched.sort_unstable();
+        let mut front = 0.0;
+        let entries = self
+            .touched
+            .iter()
+            .map(|&id| {
+                let v = std::mem::take(&mut self.accumulator[id as usize]);
+                front += v;
+                (id, v as f32)
+            })
+            .collect();
+        self.touched.clear();
+        (Row::from_sorted(entries), front, back)
+    }
+
+    /// Adds the delta form factor of every won pixel to its polygon's slot of
+    /// the accumulator, listing the slots touched. Returns the delta form
+    /// factors of the pixels won by back faces.
+    ///
+    /// When skipping, only each face's drawn rectangle is read: the pixels
+    /// outside it hold nothing, and the ones inside are visited in the same
+    /// order as a whole-face pass, so every sum is the same bits.
+    pub(super) fn sum_won(&mut self) -> f64 {
+        let table = Arc::clone(&self.table);
+        let n = table.n;
+        let mut back = 0.0;
+        for f in 0..5 {
+            let weights = if f == 0 { &table.top } else { &table.side };
+            let height = if f == 0 { n } else { n / 2 };
+            let d = if self.skip_empty {
+                let d = self.drawn[f];
+                self.stats.empty_faces += u64::from(d.is_empty());
+                self.stats.pixels_skipped += (n * height - d.pixels()) as u64;
+                d
+            } else {
+                Drawn {
+                    j0: 0,
+                    j1: height,
+                    i0: 0,
+                    i1: n,
+                }
+            };
+            if d.is_empty() {
+                continue;
+            }
+            for j in d.j0..d.j1 {
+                let span = j * n + d.i0..j * n + d.i1;
+                for (&id, &w) in self.items[f][span.clone()].iter().zip(&weights[span]) {
+                    if id < BACK_FACE {
+                        let slot = &mut self.accumulator[id as usize];
+                        if *slot == 0.0 {
+                            self.touched.push(id);
+                        }
+                        *slot += w;
+                    } else if id == BACK_FACE {
+                        back += w;
+                    }
+                }
+            }
+        }
+        back
+    }
+}
