@@ -99,6 +99,7 @@ pub fn row_settings(resolution: usize) -> RowSettings {
         seed: 1,
         method: FormFactorMethod::Hybrid,
         emitter_sampling: radiosity::formfactor::EmitterSampling::Centre,
+        level_of_detail: true,
     }
 }
 

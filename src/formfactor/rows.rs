@@ -1,6 +1,6 @@
 //! Element-to-patch rows for many receivers at once, in parallel.
 
-use super::hemicube::{DeltaTable, Hemicube, HemicubeStats};
+use super::hemicube::{Cull, DeltaTable, Hemicube, HemicubeStats, RowRequest};
 use super::{
     element_samples, eye_lift, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility,
     Occluders, Row, Samples, Sources,
@@ -22,6 +22,9 @@ pub struct RowSettings {
     /// How the visibility of emitters the item buffer saw only in part is
     /// found (hybrid method only).
     pub emitter_sampling: super::EmitterSampling,
+    /// Draw BVH subtrees that would cover less than a pixel as one sample
+    /// each (see [`crate::pipeline::Settings::level_of_detail`]).
+    pub level_of_detail: bool,
 }
 
 /// A well-mixed 64-bit hash (SplitMix64 finaliser).
@@ -115,11 +118,13 @@ pub(crate) fn compute_rows_with(
     let done = AtomicUsize::new(0);
     let patches = mesh.patches.len();
     let exact = skips.unoccluded && settings.method == super::FormFactorMethod::Hybrid;
-    let occluders = (!exact
+    // The BVH over the polygons: what each hemi-cube draws is found through
+    // it, and so is the visibility of emitters.
+    let occluders = (!exact).then(|| Occluders::new(sources));
+    let emitters_exact = !exact
         && settings.emitter_sampling != EmitterSampling::Pixels
         && settings.method == super::FormFactorMethod::Hybrid
-        && !sources.emitters.is_empty())
-    .then(|| Occluders::new(sources));
+        && !sources.emitters.is_empty();
     let closed = (skips.hidden_back_faces && !exact)
         .then(|| ClosedObjects::new(mesh))
         .filter(|c| !c.is_empty());
@@ -138,50 +143,58 @@ pub(crate) fn compute_rows_with(
                 let angle = (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
                 let lift = eye_lift(lattice.normal, e.area);
                 let eye = e.centroid + lift;
-                let (row, stats) = if exact {
-                    let stats = HemicubeStats {
-                        exact_rows: 1,
-                        ..HemicubeStats::default()
-                    };
-                    (
-                        unoccluded_row(sources, eye, lattice.normal, e.surface),
-                        stats,
-                    )
-                } else {
-                    let hidden_back = closed.as_ref().map(|c| {
-                        c.hidden_from(eye, hidden);
-                        hidden.as_slice()
-                    });
-                    let before = cube.stats;
-                    let samples = match &occluders {
-                        Some(_) => match settings.emitter_sampling {
-                            EmitterSampling::Element => {
-                                element_samples(&lattice.polygon(&e.cell), lift)
+                let (row, stats) =
+                    if exact {
+                        let stats = HemicubeStats {
+                            exact_rows: 1,
+                            ..HemicubeStats::default()
+                        };
+                        (
+                            unoccluded_row(sources, eye, lattice.normal, e.surface),
+                            stats,
+                        )
+                    } else {
+                        let hidden_back = closed.as_ref().map(|c| {
+                            c.hidden_from(eye, hidden);
+                            hidden.as_slice()
+                        });
+                        let before = cube.stats;
+                        let samples = if emitters_exact {
+                            match settings.emitter_sampling {
+                                EmitterSampling::Element => {
+                                    element_samples(&lattice.polygon(&e.cell), lift)
+                                }
+                                EmitterSampling::Centre => {
+                                    Samples::from_buf_and_len([(eye, 1.0); 4], 1)
+                                }
+                                EmitterSampling::Rays | EmitterSampling::Pixels => Samples::new(),
                             }
-                            EmitterSampling::Centre => {
-                                Samples::from_buf_and_len([(eye, 1.0); 4], 1)
+                        } else {
+                            Samples::new()
+                        };
+                        let rays = occluders.as_ref().filter(|_| emitters_exact).map(|o| {
+                            EmitterVisibility {
+                                occluders: o,
+                                seed: h,
+                                samples: &samples,
                             }
-                            EmitterSampling::Rays | EmitterSampling::Pixels => Samples::new(),
-                        },
-                        None => Samples::new(),
+                        });
+                        let row = cube.row_for(&RowRequest {
+                            sources,
+                            hidden_back,
+                            eye,
+                            normal: lattice.normal,
+                            angle,
+                            own_surface: e.surface,
+                            method: settings.method,
+                            emitter_rays: rays,
+                            cull: occluders.as_ref().map(|o| Cull {
+                                occluders: o,
+                                lod: settings.level_of_detail.then_some(settings.table.n),
+                            }),
+                        });
+                        (row, cube.stats - before)
                     };
-                    let rays = occluders.as_ref().map(|o| EmitterVisibility {
-                        occluders: o,
-                        seed: h,
-                        samples: &samples,
-                    });
-                    let row = cube.row_hiding(
-                        sources,
-                        hidden_back,
-                        eye,
-                        lattice.normal,
-                        angle,
-                        e.surface,
-                        settings.method,
-                        rays,
-                    );
-                    (row, cube.stats - before)
-                };
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(64) || n == keys.len() {
                     progress(n);

@@ -152,6 +152,7 @@ mod tests {
             seed: 7,
             method: FormFactorMethod::Hybrid,
             emitter_sampling: EmitterSampling::Centre,
+            level_of_detail: false,
         };
         let leaves = mesh.leaves();
         let (rows, _) = compute_rows(mesh, sources, &leaves, &settings, &|_| {});

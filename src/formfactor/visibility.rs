@@ -18,6 +18,7 @@ use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
 use obvhs::ray::Ray;
 use obvhs::{Boundable, BvhBuildParams};
+use smallvec::SmallVec;
 use std::time::Duration;
 
 struct Bounds(Aabb);
@@ -66,6 +67,24 @@ pub(crate) struct Occluders {
     /// precision boxes keep their accuracy far from the origin.
     pub(super) centre: DVec3,
     pub(super) pad: f64,
+    /// Per BVH node, what its polygons add up to (see [`NodeSummary`]).
+    pub(super) summaries: Vec<NodeSummary>,
+}
+
+/// What the polygons under one BVH node add up to, for drawing the node as a
+/// single sample (see `hemicube/cull.rs`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct NodeSummary {
+    /// The patch with the most area under the node (of the two children, the
+    /// patch of the one whose own such patch has more area).
+    pub(crate) patch: u32,
+    /// Its area under the node, as far as the children's choice knows.
+    pub(crate) patch_area: f64,
+    /// The sum of the polygons' areas times their unit normals: which way
+    /// they face, area weighted.
+    pub(crate) vector_area: DVec3,
+    /// Polygons under the node.
+    pub(crate) polygons: u32,
 }
 
 impl std::fmt::Debug for Occluders {
@@ -74,6 +93,57 @@ impl std::fmt::Debug for Occluders {
             .field("centre", &self.centre)
             .finish()
     }
+}
+
+/// The summary of every node of `bvh` over the polygons of `sources`,
+/// children before parents.
+fn summarise(bvh: &Bvh2, sources: &Sources) -> Vec<NodeSummary> {
+    let mut out = vec![NodeSummary::default(); bvh.nodes.len()];
+    if bvh.nodes.is_empty() {
+        return out;
+    }
+    // Post order: a node is summed once both children are.
+    let mut stack: Vec<(u32, bool)> = vec![(0, false)];
+    while let Some((index, children_done)) = stack.pop() {
+        let node = &bvh.nodes[index as usize];
+        if node.is_leaf() {
+            let first = node.first_index as usize;
+            let mut s = NodeSummary::default();
+            let mut areas: SmallVec<[(u32, f64); 8]> = SmallVec::new();
+            for &prim in &bvh.primitive_indices[first..first + node.prim_count as usize] {
+                let p = &sources.polygons[prim as usize];
+                let area = crate::math::polygon_area(p.corners());
+                s.vector_area += p.normal * area;
+                s.polygons += 1;
+                match areas.iter_mut().find(|(id, _)| *id == p.patch) {
+                    Some(slot) => slot.1 += area,
+                    None => areas.push((p.patch, area)),
+                }
+            }
+            if let Some(&(patch, area)) = areas.iter().max_by(|a, b| a.1.total_cmp(&b.1)) {
+                s.patch = patch;
+                s.patch_area = area;
+            }
+            out[index as usize] = s;
+        } else if children_done {
+            let (a, b) = (
+                out[node.first_index as usize],
+                out[node.first_index as usize + 1],
+            );
+            let larger = if b.patch_area > a.patch_area { b } else { a };
+            out[index as usize] = NodeSummary {
+                patch: larger.patch,
+                patch_area: larger.patch_area,
+                vector_area: a.vector_area + b.vector_area,
+                polygons: a.polygons + b.polygons,
+            };
+        } else {
+            stack.push((index, true));
+            stack.push((node.first_index, false));
+            stack.push((node.first_index + 1, false));
+        }
+    }
+    out
 }
 
 /// A small hash-based random number in [0, 1) from a 64-bit state.
@@ -134,7 +204,13 @@ impl Occluders {
             BvhBuildParams::medium_build(),
             &mut Duration::default(),
         );
-        Occluders { bvh, centre, pad }
+        let summaries = summarise(&bvh, sources);
+        Occluders {
+            bvh,
+            centre,
+            pad,
+            summaries,
+        }
     }
 
     /// True when no polygon (other than those on the two skipped surfaces)

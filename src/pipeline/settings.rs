@@ -28,6 +28,12 @@ pub struct Settings {
     /// found (hybrid method only), so that penumbrae are not limited to the
     /// hemi-cube's pixels.
     pub emitter_sampling: EmitterSampling,
+    /// Draw BVH subtrees of polygons that would cover less than a pixel of a
+    /// hemi-cube as one sample each, instead of polygon by polygon: the
+    /// hemi-cube's work then follows its pixel count, not the scene's
+    /// polygon count. Off draws every polygon above the horizon (for
+    /// comparison; on scenes whose patches all cover pixels, the same rows).
+    pub level_of_detail: bool,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
     /// Gathering (Gauss-Seidel) or shooting (progressive refinement).
@@ -57,6 +63,7 @@ impl Default for Settings {
             seed: 1,
             form_factors: FormFactorMethod::default(),
             emitter_sampling: EmitterSampling::default(),
+            level_of_detail: true,
             solver: SolverSettings::default(),
             solver_kind: SolverKind::default(),
             progressive: ProgressiveSettings::default(),

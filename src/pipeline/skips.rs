@@ -108,6 +108,7 @@ impl RowPlan {
                 seed: settings.seed,
                 method: settings.form_factors,
                 emitter_sampling: settings.emitter_sampling,
+                level_of_detail: settings.level_of_detail,
             },
             skips: RowSkips {
                 unoccluded: skips.convex

@@ -44,7 +44,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
     ) -> ItemCoverage {
-        self.render::<true>(sources, None, eye, normal, angle, own_surface, false);
+        self.render::<true>(sources, None, eye, normal, angle, own_surface, false, None);
         let back_faces = self.sum_won();
         self.covered_touched.sort_unstable();
         let polygons = self

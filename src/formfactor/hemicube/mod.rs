@@ -8,6 +8,7 @@
 //! rectangles drawn into (`drawn.rs`) and the work counters (`stats.rs`).
 
 mod coverage;
+mod cull;
 mod drawn;
 mod faces;
 mod hybrid;
@@ -17,6 +18,8 @@ mod stats;
 mod table;
 
 pub(crate) use coverage::Coverage;
+pub(crate) use cull::Cull;
+pub(crate) use row::RowRequest;
 pub use stats::HemicubeStats;
 pub use table::DeltaTable;
 
@@ -53,6 +56,10 @@ pub struct Hemicube {
     span_right: Vec<f64>,
     /// Per face, the rectangle drawn into since the last clear.
     drawn: [Drawn; 5],
+    /// The polygons to draw this time and the BVH nodes to draw as one sample
+    /// (reused buffers; see `cull.rs`).
+    candidates: Vec<u32>,
+    splats: Vec<u32>,
     /// Clear and read out only the drawn rectangles (true by default); false
     /// treats every face as wholly drawn, as a check that skipping changes
     /// nothing.
@@ -82,6 +89,8 @@ impl Hemicube {
             span_left: vec![f64::INFINITY; n],
             span_right: vec![f64::NEG_INFINITY; n],
             drawn: [Drawn::EMPTY; 5],
+            candidates: Vec::new(),
+            splats: Vec::new(),
             skip_empty: true,
             stats: HemicubeStats::default(),
         }

@@ -1,6 +1,7 @@
 //! Scan conversion: projects source polygons onto the five faces with a depth
 //! test on 1/depth.
 
+use super::cull::{Cull, Frame};
 use super::faces::Face;
 use super::{Drawn, Hemicube, BACK_FACE, NOTHING};
 use crate::formfactor::Sources;
@@ -21,6 +22,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
         list_subpixel: bool,
+        cull: Option<&Cull<'_>>,
     ) {
         self.clear();
         let n = sources.patch_count();
@@ -29,62 +31,80 @@ impl Hemicube {
             self.covered.resize(n, 0.0);
             self.covered_pixels.resize(n, 0);
         }
-        let t0 = normal.any_orthonormal_vector();
-        let b0 = normal.cross(t0);
-        let (s, c) = angle.sin_cos();
-        let t = t0 * c + b0 * s;
-        let b = normal.cross(t);
-        let to_local = |v: DVec3| {
-            let d = v - eye;
-            DVec3::new(d.dot(t), d.dot(b), d.dot(normal))
-        };
-        for (id, poly) in sources.polygons.iter().enumerate() {
-            if poly.surface == own_surface || (poly.centre - eye).dot(normal) < -poly.radius {
-                self.stats.polygons_culled += 1;
-                continue;
+        let frame = Frame::new(eye, normal, angle);
+        let mut ids = std::mem::take(&mut self.candidates);
+        ids.clear();
+        match cull {
+            Some(cull) => {
+                let culled = cull.visible(&frame, &mut ids, &mut self.splats);
+                self.stats.polygons_culled += culled;
             }
-            let count = poly.count as usize;
-            let mut local = [DVec3::ZERO; 4];
-            let mut above = false;
-            let mut scale: f64 = 0.0;
-            for (l, v) in local.iter_mut().zip(&poly.vertices[..count]) {
-                *l = to_local(*v);
-                above |= l.z > 0.0;
-                scale = scale.max(l.length());
+            None => ids.extend(0..sources.polygons.len() as u32),
+        }
+        for &id in &ids {
+            self.draw_polygon::<FILL>(sources, id, &frame, own_surface, hidden_back, list_subpixel);
+        }
+        self.candidates = ids;
+        let splats = std::mem::take(&mut self.splats);
+        if let Some(cull) = cull {
+            for &node in &splats {
+                self.splat(cull, node, &frame);
             }
-            if !above {
-                self.stats.polygons_culled += 1;
-                continue;
-            }
-            // Plane of the polygon in local coordinates: m . q = h. The receiver
-            // sees the front when it lies on the normal's side (h < 0).
-            let m = DVec3::new(
-                poly.normal.dot(t),
-                poly.normal.dot(b),
-                poly.normal.dot(normal),
-            );
-            let h = m.dot(local[0]);
-            if h.abs() <= 1e-12 * scale {
-                self.stats.polygons_culled += 1;
-                continue; // seen edge-on: covers no pixel
-            }
-            if h > 0.0 && hidden_back.is_some_and(|hidden| hidden[poly.surface as usize]) {
-                self.stats.back_faces_skipped += 1;
-                continue;
-            }
-            let item = if h < 0.0 { poly.patch } else { BACK_FACE };
-            let near = 1e-7 * scale;
-            for (fi, face) in Face::ALL.iter().enumerate() {
-                self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
-            }
-            if list_subpixel && item != BACK_FACE && self.covered[item as usize] == 0.0 {
-                let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
-                self.subpixel.push((
-                    id as u32,
-                    mean(&local[..count]),
-                    mean(&poly.vertices[..count]),
-                ));
-            }
+        }
+        self.splats = splats;
+    }
+
+    /// Draws source polygon `id` seen from `frame` (see [`Hemicube::render`]).
+    #[allow(clippy::too_many_arguments)]
+    fn draw_polygon<const FILL: bool>(
+        &mut self,
+        sources: &Sources,
+        id: u32,
+        frame: &Frame,
+        own_surface: u32,
+        hidden_back: Option<&[bool]>,
+        list_subpixel: bool,
+    ) {
+        let poly = &sources.polygons[id as usize];
+        if poly.surface == own_surface || (poly.centre - frame.eye).dot(frame.normal) < -poly.radius
+        {
+            self.stats.polygons_culled += 1;
+            return;
+        }
+        let count = poly.count as usize;
+        let mut local = [DVec3::ZERO; 4];
+        let mut above = false;
+        let mut scale: f64 = 0.0;
+        for (l, v) in local.iter_mut().zip(&poly.vertices[..count]) {
+            *l = frame.local(*v);
+            above |= l.z > 0.0;
+            scale = scale.max(l.length());
+        }
+        if !above {
+            self.stats.polygons_culled += 1;
+            return;
+        }
+        // Plane of the polygon in local coordinates: m . q = h. The receiver
+        // sees the front when it lies on the normal's side (h < 0).
+        let m = frame.direction(poly.normal);
+        let h = m.dot(local[0]);
+        if h.abs() <= 1e-12 * scale {
+            self.stats.polygons_culled += 1;
+            return; // seen edge-on: covers no pixel
+        }
+        if h > 0.0 && hidden_back.is_some_and(|hidden| hidden[poly.surface as usize]) {
+            self.stats.back_faces_skipped += 1;
+            return;
+        }
+        let item = if h < 0.0 { poly.patch } else { BACK_FACE };
+        let near = 1e-7 * scale;
+        for (fi, face) in Face::ALL.iter().enumerate() {
+            self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
+        }
+        if list_subpixel && item != BACK_FACE && self.covered[item as usize] == 0.0 {
+            let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
+            self.subpixel
+                .push((id, mean(&local[..count]), mean(&poly.vertices[..count])));
         }
     }
 

@@ -1,10 +1,40 @@
 //! Rows out of the item buffer: the entry points that render it and sum the
 //! delta form factors each patch won.
 
-use super::{Drawn, Hemicube, BACK_FACE};
+use super::{Cull, Drawn, Hemicube, BACK_FACE};
 use crate::formfactor::{EmitterVisibility, FormFactorMethod, Row, Sources};
 use glam::DVec3;
 use std::sync::Arc;
+
+/// Everything one row needs: what [`Hemicube::row`] takes, and what the
+/// pipeline adds.
+#[derive(Clone, Copy)]
+pub(crate) struct RowRequest<'a> {
+    /// The patches' polygons.
+    pub(crate) sources: &'a Sources,
+    /// Per surface of the sources, whether its back face is not drawn: back
+    /// faces that front faces of their own object hide from `eye`, as
+    /// `crate::formfactor::ClosedObjects::hidden_from` finds them. The row
+    /// is then the same but where a back face would have won a silhouette
+    /// pixel from the front face at equal depth.
+    pub(crate) hidden_back: Option<&'a [bool]>,
+    /// The receiving point.
+    pub(crate) eye: DVec3,
+    /// The receiver's unit normal.
+    pub(crate) normal: DVec3,
+    /// The rotation of the faces about the normal.
+    pub(crate) angle: f64,
+    /// The receiver's own surface, which it cannot see.
+    pub(crate) own_surface: u32,
+    /// How pixels become form factors.
+    pub(crate) method: FormFactorMethod,
+    /// With the occluders and a seed, the hybrid method finds the visibility
+    /// of emitters that the item buffer saw only in part from the occluders
+    /// themselves.
+    pub(crate) emitter_rays: Option<EmitterVisibility<'a>>,
+    /// How to find what to draw (see `cull.rs`); `None` draws every polygon.
+    pub(crate) cull: Option<Cull<'a>>,
+}
 
 impl Hemicube {
     /// The form factors from a differential area at `eye` with unit `normal` to
@@ -22,30 +52,32 @@ impl Hemicube {
         own_surface: u32,
         method: FormFactorMethod,
     ) -> Row {
-        self.row_hiding(sources, None, eye, normal, angle, own_surface, method, None)
+        self.row_for(&RowRequest {
+            sources,
+            hidden_back: None,
+            eye,
+            normal,
+            angle,
+            own_surface,
+            method,
+            emitter_rays: None,
+            cull: None,
+        })
     }
 
-    /// [`Hemicube::row`], not drawing the back faces of the surfaces `s`
-    /// of the sources for which `hidden_back[s]` is true: back faces that
-    /// front faces of their own object hide from `eye`, as
-    /// `crate::formfactor::ClosedObjects::hidden_from` finds them. The row
-    /// is then the same but where a back face would have won a silhouette
-    /// pixel from the front face at equal depth.
-    /// With `emitter_rays` (the occluders and a seed), the hybrid method finds
-    /// the visibility of emitters that the item buffer saw only in part from
-    /// the occluders themselves.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn row_hiding(
-        &mut self,
-        sources: &Sources,
-        hidden_back: Option<&[bool]>,
-        eye: DVec3,
-        normal: DVec3,
-        angle: f64,
-        own_surface: u32,
-        method: FormFactorMethod,
-        emitter_rays: Option<EmitterVisibility<'_>>,
-    ) -> Row {
+    /// The row `request` asks for (see [`RowRequest`]).
+    pub(crate) fn row_for(&mut self, request: &RowRequest<'_>) -> Row {
+        let &RowRequest {
+            sources,
+            hidden_back,
+            eye,
+            normal,
+            angle,
+            own_surface,
+            method,
+            emitter_rays,
+            cull,
+        } = request;
         let hybrid = method == FormFactorMethod::Hybrid;
         self.render::<true>(
             sources,
@@ -55,6 +87,7 @@ impl Hemicube {
             angle,
             own_surface,
             hybrid,
+            cull.as_ref(),
         );
         let (mut row, front, back) = self.accumulate();
         // The delta form factors sum to exactly 1, so what neither a front
@@ -93,7 +126,7 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
     ) {
-        self.render::<FILL>(sources, None, eye, normal, angle, own_surface, false);
+        self.render::<FILL>(sources, None, eye, normal, angle, own_surface, false, None);
         for id in self.covered_touched.drain(..) {
             self.covered[id as usize] = 0.0;
             self.covered_pixels[id as usize] = 0;
