@@ -35,6 +35,7 @@ mod limits;
 mod materials;
 mod meshes;
 mod nodes;
+mod options;
 mod precise;
 mod primitives;
 mod quad_merge;
@@ -45,8 +46,9 @@ pub use bake::{stage_baked, write_baked, BakeSummary};
 pub use bake_colour::BakeColour;
 pub use baked::{load_baked, BakedScene};
 pub use export::{stage_scene, write_scene};
-pub use import::load_scene;
+pub use import::{load_scene, load_scene_with};
 pub use limits::ImportLimits;
+pub use options::{LoadOptions, DEFAULT_MAX_REFLECTANCE};
 pub use textures::LinearImage;
 
 use crate::error::Error;
