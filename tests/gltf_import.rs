@@ -3,7 +3,8 @@
 //! built in code and written under the target directory.
 
 use glam::DVec3;
-use radiosity::gltf_io::{load_scene, ImportLimits};
+use radiosity::gltf_io::{load_scene, load_scene_with, ImportLimits, LoadOptions};
+use radiosity::scene::Overlaps;
 use radiosity::scene::Scene;
 use radiosity::Error;
 use serde_json::{json, Value};
@@ -816,16 +817,6 @@ fn a_nan_position_names_the_mesh() {
 }
 
 #[test]
-fn a_reflectance_above_one_names_the_material() {
-    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
-    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.5, 1.2, 0.5, 1.0]);
-    error_naming(&write("bright.gltf", &doc), "material 'grey'");
-    // Unnamed: named by its index.
-    doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.2, 0.5, 1.0]}}]);
-    error_naming(&write("bright_unnamed.gltf", &doc), "material 'material 0'");
-}
-
-#[test]
 fn an_index_out_of_range_names_the_mesh() {
     let doc = one_primitive(&UNIT_TRIANGLE, Some(&[0, 1, 3]), 4);
     let e = error_naming(&write("bad_index.gltf", &doc), "mesh 0 ('m')");
@@ -999,4 +990,238 @@ fn sparse_accessors_override_zeros() {
     doc["accessors"][0]["sparse"]["count"] = json!(2);
     doc["bufferViews"][0]["byteOffset"] = json!(2);
     error_naming(&write("sparse_bad.gltf", &doc), "sparse index 2");
+}
+
+// ---------------------------------------------------------------------------
+// Repairs of messy files: reflectance, light, facing, overlaps
+// ---------------------------------------------------------------------------
+
+fn load_with(path: &Path, options: &LoadOptions) -> radiosity::Result<Scene> {
+    load_scene_with(path, &ImportLimits::default(), options)
+}
+
+/// One triangle in each of three materials: white (1, 1, 1), one band above
+/// glTF's range, and grey.
+fn three_materials() -> Value {
+    let mut bin = Bin::default();
+    let mut prims = Vec::new();
+    for m in 0..3 {
+        let x = m as f32 * 2.0;
+        let pos = bin.positions(&[[x, 0.0, 0.0], [x + 1.0, 0.0, 0.0], [x, 1.0, 0.0]]);
+        prims.push(json!({"attributes": {"POSITION": pos}, "material": m}));
+    }
+    bin.document(json!({
+        "materials": [
+            {"name": "white", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]}},
+            {"name": "bright", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.2, 0.5, 1.0]}},
+            {"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}
+        ],
+        "meshes": [{"name": "m", "primitives": prims}],
+        "nodes": [{"name": "n", "mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    }))
+}
+
+#[test]
+fn reflectance_above_the_maximum_is_clamped_with_one_warning_naming_each_material() {
+    let path = write("white.gltf", &three_materials());
+    let scene = load(&path).unwrap();
+    let max = radiosity::gltf_io::DEFAULT_MAX_REFLECTANCE;
+    assert_eq!(max, 0.95);
+    assert_eq!(scene.materials[0].reflectance.0, [max; 3]);
+    assert_eq!(scene.materials[1].reflectance.0, [0.5, max, 0.5]);
+    assert_eq!(scene.materials[2].reflectance.0, [0.5; 3]);
+    let clamped: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("clamped"))
+        .collect();
+    assert_eq!(clamped.len(), 1, "{:?}", scene.warnings);
+    assert!(
+        clamped[0].contains("'white'")
+            && clamped[0].contains("'bright'")
+            && !clamped[0].contains("'grey'"),
+        "{}",
+        clamped[0]
+    );
+    // Another maximum.
+    let options = LoadOptions {
+        max_reflectance: 0.99,
+        ..LoadOptions::default()
+    };
+    let scene = load_with(&path, &options).unwrap();
+    assert_eq!(scene.materials[0].reflectance.0, [0.99; 3]);
+    assert_eq!(scene.materials[1].reflectance.0, [0.5, 0.99, 0.5]);
+    // A maximum the solver cannot take, or none at all, is refused by name.
+    for bad in [1.0, 0.0, f64::NAN, 2.0] {
+        let options = LoadOptions {
+            max_reflectance: bad,
+            ..LoadOptions::default()
+        };
+        let e = load_with(&path, &options).unwrap_err();
+        assert!(e.to_string().contains("max-reflectance"), "{e}");
+    }
+    // Negative reflectance is still an error naming the material.
+    let mut doc = three_materials();
+    doc["materials"][2]["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.5, -0.1, 0.5, 1.0]);
+    error_naming(&write("negative.gltf", &doc), "material 'grey'");
+}
+
+#[test]
+fn a_file_without_light_is_refused_before_any_form_factor_naming_punctual_lights() {
+    let doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    let scene = load(&write("dark.gltf", &doc)).unwrap();
+    assert!(!scene.has_light());
+    let e = scene.check_light().unwrap_err();
+    assert!(matches!(e, Error::NoLight(_)), "{e}");
+    assert!(
+        e.to_string().contains("no light") && e.to_string().contains("'dark'"),
+        "{e}"
+    );
+    assert!(!e.to_string().contains("KHR_lights_punctual"), "{e}");
+    // The solve refuses it at its checks, before any form factor: no solution.
+    let e = radiosity::solve(&scene, &Default::default(), &|_| {
+        panic!("no progress may be reported for a scene without light")
+    })
+    .unwrap_err();
+    assert!(matches!(e, Error::NoLight(_)), "{e}");
+    // With punctual lights in the file, they are named as the usual cause.
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    doc["extensions"] = json!({"KHR_lights_punctual": {"lights": [
+        {"type": "point", "intensity": 10.0},
+        {"type": "spot", "intensity": 5.0, "spot": {}}
+    ]}});
+    let scene = load(&write("punctual.gltf", &doc)).unwrap();
+    assert_eq!(scene.import_stats.punctual_lights, 2);
+    assert!(scene
+        .warnings
+        .iter()
+        .any(|w| w.contains("KHR_lights_punctual")));
+    let e = scene.check_light().unwrap_err().to_string();
+    assert!(
+        e.contains("2 KHR_lights_punctual lights are the usual cause"),
+        "{e}"
+    );
+    // An emissive material is light.
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["materials"][0]["emissiveFactor"] = json!([1.0, 1.0, 1.0]);
+    let scene = load(&write("lit.gltf", &doc)).unwrap();
+    assert!(scene.has_light());
+    scene.check_light().unwrap();
+}
+
+/// A 2 x 1 floor of two triangles facing up, the second wound the other way
+/// when `turned`, as one mesh; `double_sided` on its material.
+fn floor_doc(turned: bool, double_sided: bool) -> Value {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [2.0, 0.0, 1.0],
+        [2.0, 0.0, 0.0],
+    ];
+    let second: [u32; 3] = if turned { [0, 3, 2] } else { [0, 2, 3] };
+    let ix = [0, 1, 2, second[0], second[1], second[2]];
+    let mut doc = one_primitive(&p, Some(&ix), 4);
+    doc["meshes"][0]["name"] = json!("floor mesh");
+    doc["nodes"][0]["name"] = json!("floor");
+    doc["materials"][0]["doubleSided"] = json!(double_sided);
+    doc
+}
+
+#[test]
+fn faces_wound_against_their_neighbours_are_named_and_double_sided_takes_both() {
+    let consistent = load(&write("floor_ok.gltf", &floor_doc(false, false))).unwrap();
+    assert!(consistent.warnings.is_empty(), "{:?}", consistent.warnings);
+    let path = write("floor_turned.gltf", &floor_doc(true, false));
+    let turned = load(&path).unwrap();
+    assert_eq!(turned.surfaces.len(), 2, "the turned pair cannot merge");
+    let w: Vec<&String> = turned
+        .warnings
+        .iter()
+        .filter(|w| w.contains("other way"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", turned.warnings);
+    assert!(
+        w[0].contains("'floor'") && w[0].contains("1 of its 2"),
+        "{}",
+        w[0]
+    );
+    // A double-sided material: both sides reflect, nothing to say.
+    let doubled = load(&write("floor_doubled.gltf", &floor_doc(true, true))).unwrap();
+    assert!(doubled.warnings.is_empty(), "{:?}", doubled.warnings);
+    // --double-sided: every surface gets its back, facing the other way.
+    let options = LoadOptions {
+        double_sided: true,
+        ..LoadOptions::default()
+    };
+    let both = load_with(&path, &options).unwrap();
+    assert!(both.warnings.is_empty(), "{:?}", both.warnings);
+    assert_eq!(both.surfaces.len(), 4);
+    let up = both.surfaces.iter().filter(|s| s.normal.y > 0.5).count();
+    assert_eq!(up, 2, "one surface of each pair faces up");
+    assert!(both.materials.iter().all(|m| m.double_sided));
+}
+
+/// A 4 m wall (node "wall") and a 1 m decal inside it in the same plane
+/// (node "decal"), of two materials.
+fn wall_and_decal_doc() -> Value {
+    let mut bin = Bin::default();
+    let wall = bin.positions(&[
+        [0.0, 0.0, 0.0],
+        [4.0, 0.0, 0.0],
+        [4.0, 4.0, 0.0],
+        [0.0, 4.0, 0.0],
+    ]);
+    let decal = bin.positions(&[
+        [1.0, 1.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [1.0, 2.0, 0.0],
+    ]);
+    let ix = bin.indices(&[0, 1, 2, 0, 2, 3]);
+    bin.document(json!({
+        "materials": [
+            {"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}},
+            {"name": "sticker", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.1, 0.1, 1.0]}}
+        ],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": wall}, "indices": ix, "material": 0}]},
+            {"primitives": [{"attributes": {"POSITION": decal}, "indices": ix, "material": 1}]}
+        ],
+        "nodes": [{"name": "wall", "mesh": 0}, {"name": "decal", "mesh": 1}],
+        "scenes": [{"nodes": [0, 1]}],
+        "scene": 0
+    }))
+}
+
+#[test]
+fn a_decal_on_a_wall_is_resolved_at_load_or_refused_by_name() {
+    let path = write("decal.gltf", &wall_and_decal_doc());
+    let scene = load(&path).unwrap();
+    let area = |o: u32| -> f64 {
+        scene
+            .surfaces
+            .iter()
+            .filter(|s| s.object == o)
+            .map(|s| s.area)
+            .sum()
+    };
+    assert!((area(0) - 15.0).abs() < 1e-9, "{}", area(0));
+    assert!((area(1) - 1.0).abs() < 1e-12);
+    assert_eq!(scene.import_stats.overlapping_pairs, 1);
+    assert!(scene
+        .warnings
+        .iter()
+        .any(|w| w.contains("'decal' over 'wall'")));
+    let options = LoadOptions {
+        overlaps: Overlaps::Error,
+        ..LoadOptions::default()
+    };
+    let e = load_with(&path, &options).unwrap_err().to_string();
+    assert!(
+        e.contains("decal.gltf") && e.contains("'decal' and 'wall'") && e.contains("one plane"),
+        "{e}"
+    );
 }

@@ -205,7 +205,8 @@ pub struct SolveArgs {
     /// Also draw the element mesh over the image into this PNG.
     #[arg(long = "mesh-out")]
     pub mesh_out: Option<PathBuf>,
-    /// Print no progress bars.
+    /// Print no progress (bars on a terminal, plain lines every few seconds
+    /// otherwise).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -317,7 +318,8 @@ pub struct ProbeArgs {
     /// Solve settings, as for `solve`.
     #[command(flatten)]
     pub settings: SolveSettingsArgs,
-    /// Print no progress bars.
+    /// Print no progress (bars on a terminal, plain lines every few seconds
+    /// otherwise).
     #[arg(long)]
     pub quiet: bool,
 }

@@ -32,7 +32,8 @@ pub struct BakeArgs {
     /// Solve settings, as for `solve`.
     #[command(flatten)]
     pub settings: SolveSettingsArgs,
-    /// Print no progress bars.
+    /// Print no progress (bars on a terminal, plain lines every few seconds
+    /// otherwise).
     #[arg(long)]
     pub quiet: bool,
 }
