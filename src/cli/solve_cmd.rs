@@ -220,8 +220,7 @@ fn run_in_pool(
         eprintln!("warning: {w}");
     }
 
-    let (lo, hi) = scene.bounds();
-    let views = choose_views(plan, &scene.cameras, lo, hi);
+    let views = choose_views(plan, &scene.cameras, || Camera::framing(&scene));
     // The file names follow the scene's name: checked now, before the solve.
     check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
     check_target(&a.out.join(format!("{}.json", scene.name)))?;

@@ -4,6 +4,7 @@
 mod builder;
 mod camera;
 mod facing;
+mod framing;
 mod material;
 mod overlaps;
 mod surface;
