@@ -1225,3 +1225,201 @@ fn a_decal_on_a_wall_is_resolved_at_load_or_refused_by_name() {
         "{e}"
     );
 }
+
+// ---------------------------------------------------------------------------
+// Compressed geometry: KHR_mesh_quantization, EXT_meshopt_compression, Draco
+// ---------------------------------------------------------------------------
+
+/// A 2 x 1 rectangle in z = 0 facing +z, as millimetres.
+const RECTANGLE_MM: [[u16; 3]; 4] = [[0, 0, 0], [2000, 0, 0], [2000, 1000, 0], [0, 1000, 0]];
+
+fn quantized_document(
+    component: u32,
+    normalized: bool,
+    data: &[u8],
+    stride: usize,
+    scale: f64,
+) -> Value {
+    let mut doc = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_mesh_quantization"],
+        "extensionsRequired": ["KHR_mesh_quantization"],
+        "buffers": [{"byteLength": data.len(),
+            "uri": format!("data:application/octet-stream;base64,{}", base64::encode(data))}],
+        "bufferViews": [{"buffer": 0, "byteLength": data.len(), "byteStride": stride}],
+        "accessors": [{"bufferView": 0, "componentType": component, "count": 4, "type": "VEC3"}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "mode": 6, "material": 0}]}],
+        "nodes": [{"name": "n", "mesh": 0, "scale": [scale, scale, scale]}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    });
+    if normalized {
+        doc["accessors"][0]["normalized"] = json!(true);
+    }
+    doc
+}
+
+fn assert_rectangle(scene: &Scene, tol: f64) {
+    assert_eq!(scene.surfaces.len(), 1, "the fan merges into one quad");
+    let expected = [
+        v(0.0, 0.0, 0.0),
+        v(2.0, 0.0, 0.0),
+        v(2.0, 1.0, 0.0),
+        v(0.0, 1.0, 0.0),
+    ];
+    let got = &scene.surfaces[0].vertices;
+    for e in expected {
+        assert!(
+            got.iter().any(|p| (*p - e).length() <= tol),
+            "{e} not in {got:?}"
+        );
+    }
+    assert_eq!(scene.surfaces[0].normal, DVec3::Z);
+}
+
+#[test]
+fn quantized_positions_are_read_as_integers_or_normalized_values() {
+    // Unsigned shorts, not normalized, scaled by the node: millimetres.
+    let data: Vec<u8> = RECTANGLE_MM
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()).chain([0, 0]))
+        .collect();
+    let scene = load(&write(
+        "quantized_u16.gltf",
+        &quantized_document(5123, false, &data, 8, 1e-3),
+    ))
+    .unwrap();
+    assert_rectangle(&scene, 1e-12);
+    // Signed bytes, normalized: c / 127, so 127 is 1 m and 64 is 64/127 m.
+    let bytes: [[i8; 3]; 4] = [[0, 0, 0], [127, 0, 0], [127, 64, 0], [0, 64, 0]];
+    let data: Vec<u8> = bytes
+        .iter()
+        .flat_map(|p| p.iter().map(|&c| c as u8).chain([0]))
+        .collect();
+    let scene = load(&write(
+        "quantized_i8.gltf",
+        &quantized_document(5120, true, &data, 4, 2.0),
+    ))
+    .unwrap();
+    let height = 2.0 * 64.0 / 127.0;
+    let p = &scene.surfaces[0].vertices;
+    assert!(
+        p.iter()
+            .any(|q| (*q - v(2.0, height, 0.0)).length() < 1e-12),
+        "{p:?}"
+    );
+    // -128 normalized clamps to -1 (glTF's rule).
+    let bytes: [[i8; 3]; 4] = [[-128, 0, 0], [127, 0, 0], [127, 127, 0], [-128, 127, 0]];
+    let data: Vec<u8> = bytes
+        .iter()
+        .flat_map(|p| p.iter().map(|&c| c as u8).chain([0]))
+        .collect();
+    let scene = load(&write(
+        "quantized_clamp.gltf",
+        &quantized_document(5120, true, &data, 4, 1.0),
+    ))
+    .unwrap();
+    let p = &scene.surfaces[0].vertices;
+    assert!(
+        p.iter().any(|q| (*q - v(-1.0, 0.0, 0.0)).length() < 1e-12),
+        "{p:?}"
+    );
+}
+
+fn zigzag(d: u8) -> u8 {
+    let s = d as i8;
+    ((s << 1) ^ (s >> 7)) as u8
+}
+
+/// `EXT_meshopt_compression` attribute stream of up to 16 elements, every
+/// byte's deltas stored whole (header bits 3), from a zero baseline.
+fn raw_attribute_stream(elements: &[Vec<u8>]) -> Vec<u8> {
+    let stride = elements[0].len();
+    let mut out = vec![0xa0];
+    for k in 0..stride {
+        out.push(0b11);
+        let mut previous = 0u8;
+        for i in 0..16 {
+            let value = elements.get(i).map_or(previous, |e| e[k]);
+            out.push(zigzag(value.wrapping_sub(previous)));
+            previous = value;
+        }
+    }
+    out.extend(vec![0u8; 32]);
+    out
+}
+
+#[test]
+fn meshopt_compressed_quantized_views_decode_into_their_placeholder_buffer() {
+    let elements: Vec<Vec<u8>> = RECTANGLE_MM
+        .iter()
+        .map(|p| {
+            p.iter()
+                .flat_map(|c| c.to_le_bytes())
+                .chain([0, 0])
+                .collect()
+        })
+        .collect();
+    let vertices = raw_attribute_stream(&elements);
+    // Triangles (0 1 2) from the code table (three new vertices), then
+    // (0 2 3) from the last edge and the next vertex.
+    let mut triangles = vec![0xe1, 0xf0, 0x00];
+    triangles.extend([0u8; 16]);
+    let mut bin = vertices.clone();
+    let tri_offset = bin.len();
+    bin.extend(&triangles);
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_mesh_quantization", "EXT_meshopt_compression"],
+        "extensionsRequired": ["KHR_mesh_quantization", "EXT_meshopt_compression"],
+        "buffers": [
+            {"byteLength": bin.len()},
+            {"byteLength": 44, "extensions": {"EXT_meshopt_compression": {"fallback": true}}}
+        ],
+        "bufferViews": [
+            {"buffer": 1, "byteOffset": 0, "byteLength": 32, "byteStride": 8,
+             "extensions": {"EXT_meshopt_compression": {"buffer": 0, "byteOffset": 0,
+                "byteLength": vertices.len(), "byteStride": 8, "mode": "ATTRIBUTES", "count": 4}}},
+            {"buffer": 1, "byteOffset": 32, "byteLength": 12,
+             "extensions": {"EXT_meshopt_compression": {"buffer": 0, "byteOffset": tri_offset,
+                "byteLength": triangles.len(), "byteStride": 2, "mode": "TRIANGLES", "count": 6}}}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5123, "count": 4, "type": "VEC3"},
+            {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+        "nodes": [{"name": "n", "mesh": 0, "scale": [1e-3, 1e-3, 1e-3]}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    });
+    let path = dir().join("meshopt.glb");
+    std::fs::write(&path, glb(&serde_json::to_vec(&doc).unwrap(), &bin)).unwrap();
+    let scene = load(&path).unwrap();
+    assert_eq!(scene.import_stats.triangles_read, 2);
+    assert_rectangle(&scene, 1e-12);
+    // A corrupt stream names the buffer view and the extension.
+    let mut broken = bin.clone();
+    broken[0] = 0xa7;
+    std::fs::write(&path, glb(&serde_json::to_vec(&doc).unwrap(), &broken)).unwrap();
+    let e = error_naming(&path, "buffer view 0: EXT_meshopt_compression");
+    assert!(e.to_string().contains("version"), "{e}");
+}
+
+#[test]
+fn a_draco_file_is_refused_with_how_to_decompress_it() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
+    doc["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+    let e = error_naming(&write("draco.gltf", &doc), "KHR_draco_mesh_compression");
+    assert!(
+        e.to_string()
+            .contains("gltf-transform/cli copy in.glb out.glb"),
+        "{e}"
+    );
+}

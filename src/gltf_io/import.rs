@@ -73,7 +73,8 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
         ..Scene::default()
     };
     let doc = parse(path, &container.json, &mut scene.warnings)?;
-    let buffers = load_buffers(path, &doc, container.bin, limits)?;
+    let mut buffers = load_buffers(path, &doc, container.bin, limits)?;
+    super::meshopt::decompress_views(&doc, &mut buffers).map_err(|m| super::gltf_error(path, m))?;
     let placed = walk(path, &doc, limits)?;
     let mut images = Images::new(&doc, &buffers, path, limits);
     scene.materials = convert_materials(

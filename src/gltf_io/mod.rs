@@ -34,6 +34,7 @@ mod import;
 mod limits;
 mod materials;
 mod meshes;
+mod meshopt;
 mod nodes;
 mod options;
 mod precise;
