@@ -1369,7 +1369,7 @@ fn meshopt_compressed_quantized_views_decode_into_their_placeholder_buffer() {
     let mut bin = vertices.clone();
     let tri_offset = bin.len();
     bin.extend(&triangles);
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let doc = json!({

@@ -29,9 +29,15 @@ use glam::DVec3;
 const INSIDE: f64 = 0.5;
 
 impl Camera {
-    /// A default view of `scene` (see the [module notes](self)): from inside
-    /// an enclosure looking across its interior, else from outside the
-    /// scene's objects; far-away emitters are left out of the framing.
+    /// A default view of `scene`, framed as a person would. Far-away
+    /// emitters (outside the non-emitting surfaces' bounds widened by a
+    /// tenth: a sky quad, a sun) are left out of the framing. When the
+    /// winding number of the surfaces around the bounds' centre, or one of
+    /// six points around it, is above one half, the scene is an enclosure:
+    /// the eye looks horizontally across it from the side with the least
+    /// inward-facing area near it (+z when all are alike), standing back
+    /// from an open side until it fills a 45 degree view, or just inside a
+    /// wall. Otherwise the view is [`Camera::framing_box`] of the bounds.
     #[must_use]
     pub fn framing(scene: &Scene) -> Self {
         let framed = framed_surfaces(scene);

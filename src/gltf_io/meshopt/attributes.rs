@@ -12,7 +12,7 @@ const TAIL: usize = 32;
 
 /// Decodes `count` elements of `stride` bytes.
 pub(super) fn decode(data: &[u8], count: usize, stride: usize) -> Result<Vec<u8>, String> {
-    if stride == 0 || stride > 256 || stride % 4 != 0 {
+    if stride == 0 || stride > 256 || !stride.is_multiple_of(4) {
         return Err(format!(
             "byteStride {stride} must be a multiple of 4 up to 256"
         ));

@@ -34,7 +34,7 @@ pub(super) fn apply(
         "QUATERNION" => Err(format!(
             "filter QUATERNION needs byteStride 8, not {stride}"
         )),
-        "EXPONENTIAL" if stride % 4 == 0 => {
+        "EXPONENTIAL" if stride.is_multiple_of(4) => {
             data.chunks_exact_mut(4).for_each(exponential);
             Ok(())
         }

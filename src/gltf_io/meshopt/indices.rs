@@ -40,7 +40,7 @@ pub(super) fn decode_triangles(data: &[u8], count: usize, size: usize) -> Result
     if size != 2 && size != 4 {
         return Err(format!("byteStride {size} must be 2 or 4"));
     }
-    if count % 3 != 0 {
+    if !count.is_multiple_of(3) {
         return Err(format!("count {count} is not a whole number of triangles"));
     }
     let triangles = count / 3;
