@@ -40,6 +40,9 @@ pub enum Error {
     /// non-convex polygon handed to the builder, a scene with no surfaces.
     #[error("geometry: {0}")]
     Geometry(String),
+    /// Nothing in the scene gives light, so the solution would be black.
+    #[error("{0}")]
+    NoLight(String),
     /// A setting is out of its range.
     #[error("setting {name}: {message}")]
     Setting {

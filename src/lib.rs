@@ -39,8 +39,11 @@
 //!
 //! - [`scene`]: a [`scene::Scene`] of planar surfaces with diffuse materials,
 //!   imported from glTF ([`gltf_io`]; files read through [`input`]) or built in
-//!   code ([`scene::SceneBuilder`], the built-in [`scenes`]); overlapping
-//!   coplanar surfaces are checked there.
+//!   code ([`scene::SceneBuilder`], the built-in [`scenes`]). Real files are
+//!   repaired at load, each repair a warning in [`scene::Scene::warnings`]:
+//!   overlapping coplanar surfaces resolved, reflectance clamped, compressed
+//!   geometry decoded ([`gltf_io::LoadOptions`]); a scene without light is
+//!   refused. [`scene::Camera::framing`] gives a default view.
 //! - [`mesh`]: surfaces cut into patches, each the root of an element quadtree
 //!   ([`mesh::Mesh`]): geometry and topology only.
 //! - [`formfactor`]: element-to-patch rows from hemi-cubes with an item buffer,

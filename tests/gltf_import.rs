@@ -3,7 +3,8 @@
 //! built in code and written under the target directory.
 
 use glam::DVec3;
-use radiosity::gltf_io::{load_scene, ImportLimits};
+use radiosity::gltf_io::{load_scene, load_scene_with, ImportLimits, LoadOptions};
+use radiosity::scene::Overlaps;
 use radiosity::scene::Scene;
 use radiosity::Error;
 use serde_json::{json, Value};
@@ -816,16 +817,6 @@ fn a_nan_position_names_the_mesh() {
 }
 
 #[test]
-fn a_reflectance_above_one_names_the_material() {
-    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
-    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.5, 1.2, 0.5, 1.0]);
-    error_naming(&write("bright.gltf", &doc), "material 'grey'");
-    // Unnamed: named by its index.
-    doc["materials"] = json!([{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.2, 0.5, 1.0]}}]);
-    error_naming(&write("bright_unnamed.gltf", &doc), "material 'material 0'");
-}
-
-#[test]
 fn an_index_out_of_range_names_the_mesh() {
     let doc = one_primitive(&UNIT_TRIANGLE, Some(&[0, 1, 3]), 4);
     let e = error_naming(&write("bad_index.gltf", &doc), "mesh 0 ('m')");
@@ -999,4 +990,436 @@ fn sparse_accessors_override_zeros() {
     doc["accessors"][0]["sparse"]["count"] = json!(2);
     doc["bufferViews"][0]["byteOffset"] = json!(2);
     error_naming(&write("sparse_bad.gltf", &doc), "sparse index 2");
+}
+
+// ---------------------------------------------------------------------------
+// Repairs of messy files: reflectance, light, facing, overlaps
+// ---------------------------------------------------------------------------
+
+fn load_with(path: &Path, options: &LoadOptions) -> radiosity::Result<Scene> {
+    load_scene_with(path, &ImportLimits::default(), options)
+}
+
+/// One triangle in each of three materials: white (1, 1, 1), one band above
+/// glTF's range, and grey.
+fn three_materials() -> Value {
+    let mut bin = Bin::default();
+    let mut prims = Vec::new();
+    for m in 0..3 {
+        let x = m as f32 * 2.0;
+        let pos = bin.positions(&[[x, 0.0, 0.0], [x + 1.0, 0.0, 0.0], [x, 1.0, 0.0]]);
+        prims.push(json!({"attributes": {"POSITION": pos}, "material": m}));
+    }
+    bin.document(json!({
+        "materials": [
+            {"name": "white", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]}},
+            {"name": "bright", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.2, 0.5, 1.0]}},
+            {"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}
+        ],
+        "meshes": [{"name": "m", "primitives": prims}],
+        "nodes": [{"name": "n", "mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    }))
+}
+
+#[test]
+fn reflectance_above_the_maximum_is_clamped_with_one_warning_naming_each_material() {
+    let path = write("white.gltf", &three_materials());
+    let scene = load(&path).unwrap();
+    let max = radiosity::gltf_io::DEFAULT_MAX_REFLECTANCE;
+    assert_eq!(max, 0.95);
+    assert_eq!(scene.materials[0].reflectance.0, [max; 3]);
+    assert_eq!(scene.materials[1].reflectance.0, [0.5, max, 0.5]);
+    assert_eq!(scene.materials[2].reflectance.0, [0.5; 3]);
+    let clamped: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("clamped"))
+        .collect();
+    assert_eq!(clamped.len(), 1, "{:?}", scene.warnings);
+    assert!(
+        clamped[0].contains("'white'")
+            && clamped[0].contains("'bright'")
+            && !clamped[0].contains("'grey'"),
+        "{}",
+        clamped[0]
+    );
+    // Another maximum.
+    let options = LoadOptions {
+        max_reflectance: 0.99,
+        ..LoadOptions::default()
+    };
+    let scene = load_with(&path, &options).unwrap();
+    assert_eq!(scene.materials[0].reflectance.0, [0.99; 3]);
+    assert_eq!(scene.materials[1].reflectance.0, [0.5, 0.99, 0.5]);
+    // A maximum the solver cannot take, or none at all, is refused by name.
+    for bad in [1.0, 0.0, f64::NAN, 2.0] {
+        let options = LoadOptions {
+            max_reflectance: bad,
+            ..LoadOptions::default()
+        };
+        let e = load_with(&path, &options).unwrap_err();
+        assert!(e.to_string().contains("max-reflectance"), "{e}");
+    }
+    // Negative reflectance is still an error naming the material.
+    let mut doc = three_materials();
+    doc["materials"][2]["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.5, -0.1, 0.5, 1.0]);
+    error_naming(&write("negative.gltf", &doc), "material 'grey'");
+}
+
+#[test]
+fn a_file_without_light_is_refused_before_any_form_factor_naming_punctual_lights() {
+    let doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    let scene = load(&write("dark.gltf", &doc)).unwrap();
+    assert!(!scene.has_light());
+    let e = scene.check_light().unwrap_err();
+    assert!(matches!(e, Error::NoLight(_)), "{e}");
+    assert!(
+        e.to_string().contains("no light") && e.to_string().contains("'dark'"),
+        "{e}"
+    );
+    assert!(!e.to_string().contains("KHR_lights_punctual"), "{e}");
+    // The solve refuses it at its checks, before any form factor: no solution.
+    let e = radiosity::solve(&scene, &Default::default(), &|_| {
+        panic!("no progress may be reported for a scene without light")
+    })
+    .unwrap_err();
+    assert!(matches!(e, Error::NoLight(_)), "{e}");
+    // With punctual lights in the file, they are named as the usual cause.
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    doc["extensions"] = json!({"KHR_lights_punctual": {"lights": [
+        {"type": "point", "intensity": 10.0},
+        {"type": "spot", "intensity": 5.0, "spot": {}}
+    ]}});
+    let scene = load(&write("punctual.gltf", &doc)).unwrap();
+    assert_eq!(scene.import_stats.punctual_lights, 2);
+    assert!(scene
+        .warnings
+        .iter()
+        .any(|w| w.contains("KHR_lights_punctual")));
+    let e = scene.check_light().unwrap_err().to_string();
+    assert!(
+        e.contains("2 KHR_lights_punctual lights are the usual cause"),
+        "{e}"
+    );
+    // An emissive material is light.
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["materials"][0]["emissiveFactor"] = json!([1.0, 1.0, 1.0]);
+    let scene = load(&write("lit.gltf", &doc)).unwrap();
+    assert!(scene.has_light());
+    scene.check_light().unwrap();
+}
+
+/// A 2 x 1 floor of two triangles facing up, the second wound the other way
+/// when `turned`, as one mesh; `double_sided` on its material.
+fn floor_doc(turned: bool, double_sided: bool) -> Value {
+    let p = [
+        [0.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [2.0, 0.0, 1.0],
+        [2.0, 0.0, 0.0],
+    ];
+    let second: [u32; 3] = if turned { [0, 3, 2] } else { [0, 2, 3] };
+    let ix = [0, 1, 2, second[0], second[1], second[2]];
+    let mut doc = one_primitive(&p, Some(&ix), 4);
+    doc["meshes"][0]["name"] = json!("floor mesh");
+    doc["nodes"][0]["name"] = json!("floor");
+    doc["materials"][0]["doubleSided"] = json!(double_sided);
+    doc
+}
+
+#[test]
+fn faces_wound_against_their_neighbours_are_named_and_double_sided_takes_both() {
+    let consistent = load(&write("floor_ok.gltf", &floor_doc(false, false))).unwrap();
+    assert!(consistent.warnings.is_empty(), "{:?}", consistent.warnings);
+    let path = write("floor_turned.gltf", &floor_doc(true, false));
+    let turned = load(&path).unwrap();
+    assert_eq!(turned.surfaces.len(), 2, "the turned pair cannot merge");
+    let w: Vec<&String> = turned
+        .warnings
+        .iter()
+        .filter(|w| w.contains("other way"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", turned.warnings);
+    assert!(
+        w[0].contains("'floor'") && w[0].contains("1 of its 2"),
+        "{}",
+        w[0]
+    );
+    // A double-sided material: both sides reflect, nothing to say.
+    let doubled = load(&write("floor_doubled.gltf", &floor_doc(true, true))).unwrap();
+    assert!(doubled.warnings.is_empty(), "{:?}", doubled.warnings);
+    // --double-sided: every surface gets its back, facing the other way.
+    let options = LoadOptions {
+        double_sided: true,
+        ..LoadOptions::default()
+    };
+    let both = load_with(&path, &options).unwrap();
+    assert!(both.warnings.is_empty(), "{:?}", both.warnings);
+    assert_eq!(both.surfaces.len(), 4);
+    let up = both.surfaces.iter().filter(|s| s.normal.y > 0.5).count();
+    assert_eq!(up, 2, "one surface of each pair faces up");
+    assert!(both.materials.iter().all(|m| m.double_sided));
+}
+
+/// A 4 m wall (node "wall") and a 1 m decal inside it in the same plane
+/// (node "decal"), of two materials.
+fn wall_and_decal_doc() -> Value {
+    let mut bin = Bin::default();
+    let wall = bin.positions(&[
+        [0.0, 0.0, 0.0],
+        [4.0, 0.0, 0.0],
+        [4.0, 4.0, 0.0],
+        [0.0, 4.0, 0.0],
+    ]);
+    let decal = bin.positions(&[
+        [1.0, 1.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [1.0, 2.0, 0.0],
+    ]);
+    let ix = bin.indices(&[0, 1, 2, 0, 2, 3]);
+    bin.document(json!({
+        "materials": [
+            {"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}},
+            {"name": "sticker", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.1, 0.1, 1.0]}}
+        ],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": wall}, "indices": ix, "material": 0}]},
+            {"primitives": [{"attributes": {"POSITION": decal}, "indices": ix, "material": 1}]}
+        ],
+        "nodes": [{"name": "wall", "mesh": 0}, {"name": "decal", "mesh": 1}],
+        "scenes": [{"nodes": [0, 1]}],
+        "scene": 0
+    }))
+}
+
+#[test]
+fn a_decal_on_a_wall_is_resolved_at_load_or_refused_by_name() {
+    let path = write("decal.gltf", &wall_and_decal_doc());
+    let scene = load(&path).unwrap();
+    let area = |o: u32| -> f64 {
+        scene
+            .surfaces
+            .iter()
+            .filter(|s| s.object == o)
+            .map(|s| s.area)
+            .sum()
+    };
+    assert!((area(0) - 15.0).abs() < 1e-9, "{}", area(0));
+    assert!((area(1) - 1.0).abs() < 1e-12);
+    assert_eq!(scene.import_stats.overlapping_pairs, 1);
+    assert!(scene
+        .warnings
+        .iter()
+        .any(|w| w.contains("'decal' over 'wall'")));
+    let options = LoadOptions {
+        overlaps: Overlaps::Error,
+        ..LoadOptions::default()
+    };
+    let e = load_with(&path, &options).unwrap_err().to_string();
+    assert!(
+        e.contains("decal.gltf") && e.contains("'decal' and 'wall'") && e.contains("one plane"),
+        "{e}"
+    );
+}
+
+// ---------------------------------------------------------------------------
+// Compressed geometry: KHR_mesh_quantization, EXT_meshopt_compression, Draco
+// ---------------------------------------------------------------------------
+
+/// A 2 x 1 rectangle in z = 0 facing +z, as millimetres.
+const RECTANGLE_MM: [[u16; 3]; 4] = [[0, 0, 0], [2000, 0, 0], [2000, 1000, 0], [0, 1000, 0]];
+
+fn quantized_document(
+    component: u32,
+    normalized: bool,
+    data: &[u8],
+    stride: usize,
+    scale: f64,
+) -> Value {
+    let mut doc = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_mesh_quantization"],
+        "extensionsRequired": ["KHR_mesh_quantization"],
+        "buffers": [{"byteLength": data.len(),
+            "uri": format!("data:application/octet-stream;base64,{}", base64::encode(data))}],
+        "bufferViews": [{"buffer": 0, "byteLength": data.len(), "byteStride": stride}],
+        "accessors": [{"bufferView": 0, "componentType": component, "count": 4, "type": "VEC3"}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "mode": 6, "material": 0}]}],
+        "nodes": [{"name": "n", "mesh": 0, "scale": [scale, scale, scale]}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    });
+    if normalized {
+        doc["accessors"][0]["normalized"] = json!(true);
+    }
+    doc
+}
+
+fn assert_rectangle(scene: &Scene, tol: f64) {
+    assert_eq!(scene.surfaces.len(), 1, "the fan merges into one quad");
+    let expected = [
+        v(0.0, 0.0, 0.0),
+        v(2.0, 0.0, 0.0),
+        v(2.0, 1.0, 0.0),
+        v(0.0, 1.0, 0.0),
+    ];
+    let got = &scene.surfaces[0].vertices;
+    for e in expected {
+        assert!(
+            got.iter().any(|p| (*p - e).length() <= tol),
+            "{e} not in {got:?}"
+        );
+    }
+    assert_eq!(scene.surfaces[0].normal, DVec3::Z);
+}
+
+#[test]
+fn quantized_positions_are_read_as_integers_or_normalized_values() {
+    // Unsigned shorts, not normalized, scaled by the node: millimetres.
+    let data: Vec<u8> = RECTANGLE_MM
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()).chain([0, 0]))
+        .collect();
+    let scene = load(&write(
+        "quantized_u16.gltf",
+        &quantized_document(5123, false, &data, 8, 1e-3),
+    ))
+    .unwrap();
+    assert_rectangle(&scene, 1e-12);
+    // Signed bytes, normalized: c / 127, so 127 is 1 m and 64 is 64/127 m.
+    let bytes: [[i8; 3]; 4] = [[0, 0, 0], [127, 0, 0], [127, 64, 0], [0, 64, 0]];
+    let data: Vec<u8> = bytes
+        .iter()
+        .flat_map(|p| p.iter().map(|&c| c as u8).chain([0]))
+        .collect();
+    let scene = load(&write(
+        "quantized_i8.gltf",
+        &quantized_document(5120, true, &data, 4, 2.0),
+    ))
+    .unwrap();
+    let height = 2.0 * 64.0 / 127.0;
+    let p = &scene.surfaces[0].vertices;
+    assert!(
+        p.iter()
+            .any(|q| (*q - v(2.0, height, 0.0)).length() < 1e-12),
+        "{p:?}"
+    );
+    // -128 normalized clamps to -1 (glTF's rule).
+    let bytes: [[i8; 3]; 4] = [[-128, 0, 0], [127, 0, 0], [127, 127, 0], [-128, 127, 0]];
+    let data: Vec<u8> = bytes
+        .iter()
+        .flat_map(|p| p.iter().map(|&c| c as u8).chain([0]))
+        .collect();
+    let scene = load(&write(
+        "quantized_clamp.gltf",
+        &quantized_document(5120, true, &data, 4, 1.0),
+    ))
+    .unwrap();
+    let p = &scene.surfaces[0].vertices;
+    assert!(
+        p.iter().any(|q| (*q - v(-1.0, 0.0, 0.0)).length() < 1e-12),
+        "{p:?}"
+    );
+}
+
+fn zigzag(d: u8) -> u8 {
+    let s = d as i8;
+    ((s << 1) ^ (s >> 7)) as u8
+}
+
+/// `EXT_meshopt_compression` attribute stream of up to 16 elements, every
+/// byte's deltas stored whole (header bits 3), from a zero baseline.
+fn raw_attribute_stream(elements: &[Vec<u8>]) -> Vec<u8> {
+    let stride = elements[0].len();
+    let mut out = vec![0xa0];
+    for k in 0..stride {
+        out.push(0b11);
+        let mut previous = 0u8;
+        for i in 0..16 {
+            let value = elements.get(i).map_or(previous, |e| e[k]);
+            out.push(zigzag(value.wrapping_sub(previous)));
+            previous = value;
+        }
+    }
+    out.extend(vec![0u8; 32]);
+    out
+}
+
+#[test]
+fn meshopt_compressed_quantized_views_decode_into_their_placeholder_buffer() {
+    let elements: Vec<Vec<u8>> = RECTANGLE_MM
+        .iter()
+        .map(|p| {
+            p.iter()
+                .flat_map(|c| c.to_le_bytes())
+                .chain([0, 0])
+                .collect()
+        })
+        .collect();
+    let vertices = raw_attribute_stream(&elements);
+    // Triangles (0 1 2) from the code table (three new vertices), then
+    // (0 2 3) from the last edge and the next vertex.
+    let mut triangles = vec![0xe1, 0xf0, 0x00];
+    triangles.extend([0u8; 16]);
+    let mut bin = vertices.clone();
+    let tri_offset = bin.len();
+    bin.extend(&triangles);
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_mesh_quantization", "EXT_meshopt_compression"],
+        "extensionsRequired": ["KHR_mesh_quantization", "EXT_meshopt_compression"],
+        "buffers": [
+            {"byteLength": bin.len()},
+            {"byteLength": 44, "extensions": {"EXT_meshopt_compression": {"fallback": true}}}
+        ],
+        "bufferViews": [
+            {"buffer": 1, "byteOffset": 0, "byteLength": 32, "byteStride": 8,
+             "extensions": {"EXT_meshopt_compression": {"buffer": 0, "byteOffset": 0,
+                "byteLength": vertices.len(), "byteStride": 8, "mode": "ATTRIBUTES", "count": 4}}},
+            {"buffer": 1, "byteOffset": 32, "byteLength": 12,
+             "extensions": {"EXT_meshopt_compression": {"buffer": 0, "byteOffset": tri_offset,
+                "byteLength": triangles.len(), "byteStride": 2, "mode": "TRIANGLES", "count": 6}}}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5123, "count": 4, "type": "VEC3"},
+            {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+        "nodes": [{"name": "n", "mesh": 0, "scale": [1e-3, 1e-3, 1e-3]}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0
+    });
+    let path = dir().join("meshopt.glb");
+    std::fs::write(&path, glb(&serde_json::to_vec(&doc).unwrap(), &bin)).unwrap();
+    let scene = load(&path).unwrap();
+    assert_eq!(scene.import_stats.triangles_read, 2);
+    assert_rectangle(&scene, 1e-12);
+    // A corrupt stream names the buffer view and the extension.
+    let mut broken = bin.clone();
+    broken[0] = 0xa7;
+    std::fs::write(&path, glb(&serde_json::to_vec(&doc).unwrap(), &broken)).unwrap();
+    let e = error_naming(&path, "buffer view 0: EXT_meshopt_compression");
+    assert!(e.to_string().contains("version"), "{e}");
+}
+
+#[test]
+fn a_draco_file_is_refused_with_how_to_decompress_it() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
+    doc["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+    let e = error_naming(&write("draco.gltf", &doc), "KHR_draco_mesh_compression");
+    assert!(
+        e.to_string()
+            .contains("gltf-transform/cli copy in.glb out.glb"),
+        "{e}"
+    );
 }

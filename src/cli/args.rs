@@ -145,9 +145,33 @@ pub struct ReferenceArgs {
     /// Worker threads [default: all cores].
     #[arg(long)]
     pub threads: Option<usize>,
+    /// How the scene is loaded.
+    #[command(flatten)]
+    pub load: LoadArgs,
     /// Output JSON file [default: standard output].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+}
+
+/// How a scene is loaded: the repairs made to what real files get wrong.
+#[derive(Args, Debug, Clone)]
+pub struct LoadArgs {
+    /// Coplanar surfaces that overlap facing the same way (decals, layered
+    /// logos, a light flush with its ceiling, duplicates): resolve (the
+    /// smaller object's surface covers its footprint, which is cut out of the
+    /// one below; duplicates count once) or error (refuse the scene, naming
+    /// the pairs).
+    #[arg(long, default_value = "resolve", value_parser = ["resolve", "error"])]
+    pub overlaps: String,
+    /// Largest reflectance kept from a glTF file: bands above it (a
+    /// pure-white baseColorFactor) are clamped to it, with a warning; at most
+    /// 0.99999.
+    #[arg(long = "max-reflectance", default_value_t = radiosity::gltf_io::DEFAULT_MAX_REFLECTANCE)]
+    pub max_reflectance: f64,
+    /// Treat every surface as two-sided (faces wound the wrong way then
+    /// still reflect light).
+    #[arg(long = "double-sided")]
+    pub double_sided: bool,
 }
 
 /// `radiosity export-scene`.
@@ -181,7 +205,8 @@ pub struct SolveArgs {
     /// Also draw the element mesh over the image into this PNG.
     #[arg(long = "mesh-out")]
     pub mesh_out: Option<PathBuf>,
-    /// Print no progress bars.
+    /// Print no progress (bars on a terminal, plain lines every few seconds
+    /// otherwise).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -189,6 +214,9 @@ pub struct SolveArgs {
 /// The settings of a solve, shared by `solve` and `probe`.
 #[derive(Args, Debug, Clone)]
 pub struct SolveSettingsArgs {
+    /// How the scene is loaded.
+    #[command(flatten)]
+    pub load: LoadArgs,
     /// Hemi-cube resolution: pixels across the top face (even).
     #[arg(long = "hemicube-res", default_value_t = 64)]
     pub hemicube_res: usize,
@@ -290,7 +318,8 @@ pub struct ProbeArgs {
     /// Solve settings, as for `solve`.
     #[command(flatten)]
     pub settings: SolveSettingsArgs,
-    /// Print no progress bars.
+    /// Print no progress (bars on a terminal, plain lines every few seconds
+    /// otherwise).
     #[arg(long)]
     pub quiet: bool,
 }

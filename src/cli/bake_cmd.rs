@@ -4,7 +4,7 @@
 use super::args::SolveSettingsArgs;
 use super::checks::thread_pool;
 use super::progress_bar::Bars;
-use super::solve_cmd::{check_gltf_name, load, settings};
+use super::solve_cmd::{check_gltf_name, load, load_options, settings};
 use anyhow::{Context, Result};
 use clap::Args;
 use radiosity::gltf_io::{write_baked, BakeColour};
@@ -32,7 +32,8 @@ pub struct BakeArgs {
     /// Solve settings, as for `solve`.
     #[command(flatten)]
     pub settings: SolveSettingsArgs,
-    /// Print no progress bars.
+    /// Print no progress (bars on a terminal, plain lines every few seconds
+    /// otherwise).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -47,7 +48,7 @@ pub fn run(a: &BakeArgs) -> Result<()> {
     check_target(&a.output)?;
     let settings = settings(&a.settings)?;
     pool.install(|| {
-        let scene = load(&a.scene)?;
+        let scene = load(&a.scene, &load_options(&a.settings.load)?)?;
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }

@@ -2,7 +2,7 @@
 
 use super::args::ConvergeArgs;
 use super::checks::thread_pool;
-use super::solve_cmd::{load, settings};
+use super::solve_cmd::{load, load_options, settings};
 use anyhow::{bail, Context, Result};
 use radiosity::output::{prepare_folder, Outputs};
 use radiosity::report::{
@@ -70,7 +70,7 @@ fn converge_one(
     name: &str,
     outputs: &mut Outputs,
 ) -> Result<()> {
-    let scene = load(name)?;
+    let scene = load(name, &load_options(&a.settings.load)?)?;
     let say = |text: String| {
         if !a.quiet {
             eprintln!("{text}");

@@ -10,6 +10,7 @@ mod diff_cmd;
 mod peak_memory;
 mod probe_cmd;
 mod progress_bar;
+mod progress_lines;
 mod reference_cmd;
 mod render_cmd;
 mod solve_cmd;

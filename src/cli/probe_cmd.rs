@@ -3,7 +3,7 @@
 use super::args::ProbeArgs;
 use super::checks::thread_pool;
 use super::progress_bar::Bars;
-use super::solve_cmd::{load, read_text, settings};
+use super::solve_cmd::{load, load_options, read_text, settings};
 use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use radiosity::output::{check_target, write_bytes};
@@ -47,7 +47,7 @@ fn run_in_pool(a: &ProbeArgs, settings: &Settings) -> Result<()> {
         check_target(path)?;
     }
 
-    let scene = load(&a.scene)?;
+    let scene = load(&a.scene, &load_options(&a.settings.load)?)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }

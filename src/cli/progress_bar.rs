@@ -1,21 +1,30 @@
-//! Progress bars on standard error, fed by the library's progress callback.
+//! Progress on standard error, fed by the library's progress callback: a
+//! bar on a terminal, plain lines every few seconds otherwise
+//! ([`super::progress_lines`]), nothing with `--quiet`.
 
+use super::progress_lines::{stage_name, Lines};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use radiosity::pipeline::{Progress, Stage};
+use std::io::IsTerminal;
 use std::mem::discriminant;
 use std::sync::Mutex;
+use std::time::Instant;
 
-/// One bar, relabelled per stage.
+/// One bar, relabelled per stage, or plain lines.
 pub struct Bars {
     bar: ProgressBar,
     stage: Mutex<Option<Stage>>,
+    /// Plain lines instead of the bar (standard error is not a terminal).
+    lines: Option<Mutex<Lines>>,
 }
 
 impl Bars {
-    /// Bars on standard error, or none at all when `quiet`.
+    /// A bar on standard error if it is a terminal, else plain lines; none
+    /// at all when `quiet`.
     pub fn new(quiet: bool) -> Self {
         let bar = ProgressBar::new(0);
-        if quiet {
+        let terminal = std::io::stderr().is_terminal();
+        if quiet || !terminal {
             bar.set_draw_target(ProgressDrawTarget::hidden());
         }
         bar.set_style(
@@ -28,11 +37,19 @@ impl Bars {
         Bars {
             bar,
             stage: Mutex::new(None),
+            lines: (!quiet && !terminal).then(|| Mutex::new(Lines::new())),
         }
     }
 
     /// Shows one progress report.
     pub fn update(&self, p: Progress) {
+        if let Some(lines) = &self.lines {
+            let line = lines.lock().expect("progress lock").line(p, Instant::now());
+            if let Some(line) = line {
+                eprintln!("{line}");
+            }
+            return;
+        }
         let mut stage = self.stage.lock().expect("progress lock");
         // A new stage relabels the bar; shooting stays one stage as its shot
         // count and unshot fraction move.
@@ -42,13 +59,7 @@ impl Bars {
         };
         if !same {
             *stage = Some(p.stage);
-            let label = match p.stage {
-                Stage::FormFactors { pass: 0 } => "form factors".to_string(),
-                Stage::FormFactors { pass } => format!("refine {pass}: form factors"),
-                Stage::Solve => "solve".to_string(),
-                Stage::Shoot { .. } => "shooting".to_string(),
-            };
-            self.bar.set_prefix(label);
+            self.bar.set_prefix(stage_name(p.stage));
             self.bar.set_length(p.total as u64);
             self.bar.reset_elapsed();
             self.bar.set_message("");

@@ -2,7 +2,7 @@
 
 use super::args::ReferenceArgs;
 use super::checks::thread_pool;
-use super::solve_cmd::load;
+use super::solve_cmd::{load, load_options};
 use anyhow::Result;
 use radiosity::math::Rgb;
 use radiosity::output::{check_target, write_bytes};
@@ -40,10 +40,11 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
         ..ReferenceSettings::default()
     };
     settings.validate()?;
+    let options = load_options(&a.load)?;
     if let Some(path) = &a.output {
         check_target(path)?;
     }
-    let scene = load(&a.scene)?;
+    let scene = load(&a.scene, &options)?;
     let started = Instant::now();
     let means = pool.install(|| -> Result<_> {
         let reference = Reference::new(&scene)?;

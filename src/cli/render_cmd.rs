@@ -7,6 +7,7 @@ use clap::Args;
 use glam::DVec3;
 use radiosity::gltf_io::{load_baked, ImportLimits};
 use radiosity::output::{prepare_folder, Outputs};
+use radiosity::scene::Camera;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -39,7 +40,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    let views = choose_views(&plan, &baked.cameras, lo, hi);
+    let views = choose_views(&plan, &baked.cameras, || Camera::framing_box(lo, hi));
     check_view_files(views.len(), &a.view, &plan, &a.out, &baked.name)?;
     let mut staged = Outputs::new();
     let outputs = write_views(

@@ -1,12 +1,12 @@
 //! `radiosity solve`: load, solve, render every view, write images and stats.
 
-use super::args::{ExportArgs, SolveArgs, SolveSettingsArgs};
+use super::args::{ExportArgs, LoadArgs, SolveArgs, SolveSettingsArgs};
 use super::checks::{thread_pool, time_budget};
 use super::progress_bar::Bars;
 use super::view_args::ViewPlan;
 use super::views::{check_view_files, choose_views, write_views, Overlay};
 use anyhow::{bail, Context, Result};
-use radiosity::gltf_io::{self, ImportLimits};
+use radiosity::gltf_io::{self, ImportLimits, LoadOptions};
 use radiosity::output::{check_target, prepare_folder, Outputs};
 use radiosity::pipeline::{Preview, SolveStats};
 use radiosity::refine::RefineSettings;
@@ -21,20 +21,41 @@ use std::io::Read;
 use std::path::Path;
 use std::time::Instant;
 
-/// Loads a scene from a file, or a built-in scene by name.
-pub fn load(scene: &str) -> Result<Scene> {
+/// The load options the flags ask for, checked before anything is loaded.
+pub fn load_options(a: &LoadArgs) -> Result<LoadOptions> {
+    let options = LoadOptions {
+        overlaps: a.overlaps.parse().map_err(anyhow::Error::msg)?,
+        max_reflectance: a.max_reflectance,
+        double_sided: a.double_sided,
+    };
+    options.validate()?;
+    Ok(options)
+}
+
+/// Loads a scene from a file, or a built-in scene by name, repaired as
+/// `options` say (a built-in scene is made double-sided and checked for
+/// overlaps; its reflectances are its own), and checks that something in it
+/// gives light: every check that needs the scene but not its solve.
+pub fn load(scene: &str, options: &LoadOptions) -> Result<Scene> {
     let path = Path::new(scene);
-    if !path.exists() {
-        if let Some(s) = scenes::by_name(scene) {
-            return Ok(s);
+    let scene = if path.exists() {
+        gltf_io::load_scene_with(path, &ImportLimits::default(), options)?
+    } else {
+        let Some(mut s) = scenes::by_name(scene) else {
+            bail!(
+                "'{scene}' is neither a file nor a built-in scene (built-in: {}, {})",
+                scenes::NAMES.join(", "),
+                scenes::SIZED_NAMES
+            );
+        };
+        if options.double_sided {
+            s.make_double_sided();
         }
-        bail!(
-            "'{scene}' is neither a file nor a built-in scene (built-in: {}, {})",
-            scenes::NAMES.join(", "),
-            scenes::SIZED_NAMES
-        );
-    }
-    Ok(gltf_io::load_scene(path, &ImportLimits::default())?)
+        s.resolve_overlaps(options.overlaps)?;
+        s
+    };
+    scene.check_light()?;
+    Ok(scene)
 }
 
 /// The text of a regular file of at most 1 GiB (a FIFO or device is refused
@@ -55,6 +76,8 @@ pub fn read_text(path: &Path) -> Result<String> {
 /// The library settings the solve flags ask for, checked (everything that can
 /// be checked without the scene).
 pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
+    // The load options too, so that every command refuses them before it loads.
+    load_options(&a.load)?;
     let time_budget = time_budget(a.time_budget)?;
     // Values the library would take without a word: a NaN or negative source
     // tolerance turned source splitting off.
@@ -173,30 +196,31 @@ pub fn run(a: &SolveArgs) -> Result<()> {
     let pool = thread_pool(a.settings.threads)?;
     let plan = a.view.plan()?;
     let settings = settings(&a.settings)?;
+    let options = load_options(&a.settings.load)?;
     prepare_folder(&a.out)?;
     if let Some(png) = &a.mesh_out {
         check_target(png)?;
     }
     let threads = pool.current_num_threads();
-    pool.install(|| run_in_pool(a, &plan, &settings, started, threads))
+    pool.install(|| run_in_pool(a, &plan, &settings, &options, started, threads))
 }
 
 fn run_in_pool(
     a: &SolveArgs,
     plan: &ViewPlan,
     settings: &Settings,
+    options: &LoadOptions,
     started: Instant,
     threads: usize,
 ) -> Result<()> {
     let t = Instant::now();
-    let scene = load(&a.scene)?;
+    let scene = load(&a.scene, options)?;
     let load_seconds = t.elapsed().as_secs_f64();
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
 
-    let (lo, hi) = scene.bounds();
-    let views = choose_views(plan, &scene.cameras, lo, hi);
+    let views = choose_views(plan, &scene.cameras, || Camera::framing(&scene));
     // The file names follow the scene's name: checked now, before the solve.
     check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
     check_target(&a.out.join(format!("{}.json", scene.name)))?;

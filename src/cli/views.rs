@@ -20,14 +20,18 @@ pub struct Overlay<'a> {
 }
 
 /// The views to render: the `--camera` views, else the first of `own` (the
-/// scene's cameras), else one that frames the box `lo`..`hi`.
-pub fn choose_views(plan: &ViewPlan, own: &[Camera], lo: DVec3, hi: DVec3) -> Vec<Camera> {
+/// scene's cameras), else `framing()` (the library's default view).
+pub fn choose_views(
+    plan: &ViewPlan,
+    own: &[Camera],
+    framing: impl FnOnce() -> Camera,
+) -> Vec<Camera> {
     if !plan.cameras.is_empty() {
         plan.cameras.clone()
     } else if let Some(c) = own.first() {
         vec![c.clone()]
     } else {
-        vec![Camera::framing(lo, hi)]
+        vec![framing()]
     }
 }
 

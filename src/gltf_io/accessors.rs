@@ -13,7 +13,11 @@ use gltf_json::validation::Checked;
 /// An error message naming the accessor, buffer view or buffer at fault.
 type Message = String;
 
-/// The positions of a `VEC3` `FLOAT` accessor.
+/// The positions of a `VEC3` accessor of `FLOAT`, or of (normalized or not)
+/// signed or unsigned bytes or shorts as `KHR_mesh_quantization` allows:
+/// integers read as their values, normalized ones as glTF specifies (`c /
+/// 255` or `c / 65535` unsigned, `max(c / 127, -1)` or `max(c / 32767, -1)`
+/// signed); the node's transform scales them back to metres.
 pub(super) fn read_positions(
     doc: &Document,
     buffers: &[Vec<u8>],
@@ -23,20 +27,62 @@ pub(super) fn read_positions(
     let acc = accessor(doc, index)?;
     let name = describe("accessor", index, acc.name.as_deref());
     let component = component_type(acc);
-    if type_of(acc) != Some(Type::Vec3) || component != Some(ComponentType::F32) || acc.normalized {
+    let size = match component {
+        Some(ComponentType::F32) if !acc.normalized => 4,
+        Some(ComponentType::I8 | ComponentType::U8) => 1,
+        Some(ComponentType::I16 | ComponentType::U16) => 2,
+        _ => 0,
+    };
+    if type_of(acc) != Some(Type::Vec3) || size == 0 {
         return Err(format!(
-            "{name} holds positions as {:?} of {:?}; only VEC3 of FLOAT is supported",
+            "{name} holds positions as {:?} of {:?}{}; positions must be VEC3 of FLOAT, or of \
+             bytes or shorts (KHR_mesh_quantization)",
             type_of(acc),
-            component
+            component,
+            if acc.normalized { " (normalized)" } else { "" }
         ));
     }
-    let raw = read_elements(doc, buffers, acc, &name, 12, limits, |b| {
-        [f32_at(b, 0), f32_at(b, 4), f32_at(b, 8)]
-    })?;
-    Ok(raw
-        .into_iter()
-        .map(|[x, y, z]| DVec3::new(f64::from(x), f64::from(y), f64::from(z)))
-        .collect())
+    let normalized = acc.normalized;
+    let read = move |b: &[u8]| -> f64 {
+        match component {
+            Some(ComponentType::I8) => {
+                let c = f64::from(b[0] as i8);
+                if normalized {
+                    (c / 127.0).max(-1.0)
+                } else {
+                    c
+                }
+            }
+            Some(ComponentType::U8) => {
+                let c = f64::from(b[0]);
+                if normalized {
+                    c / 255.0
+                } else {
+                    c
+                }
+            }
+            Some(ComponentType::I16) => {
+                let c = f64::from(i16::from_le_bytes([b[0], b[1]]));
+                if normalized {
+                    (c / 32767.0).max(-1.0)
+                } else {
+                    c
+                }
+            }
+            Some(ComponentType::U16) => {
+                let c = f64::from(u16::from_le_bytes([b[0], b[1]]));
+                if normalized {
+                    c / 65535.0
+                } else {
+                    c
+                }
+            }
+            _ => f64::from(f32_at(b, 0)),
+        }
+    };
+    read_elements(doc, buffers, acc, &name, 3 * size, limits, |b| {
+        DVec3::new(read(b), read(&b[size..]), read(&b[2 * size..]))
+    })
 }
 
 /// The vertex indices of a `SCALAR` accessor of unsigned bytes, shorts or ints.

@@ -35,6 +35,11 @@ pub(super) fn load_buffers(
         let mut bytes = match &buffer.uri {
             None => match (i, glb_bin.take()) {
                 (0, Some(bin)) => bin,
+                // A placeholder that compressed views decode into.
+                (_, bin) if super::meshopt::is_fallback(doc, i) => {
+                    glb_bin = bin;
+                    vec![0; declared as usize]
+                }
                 _ => {
                     return Err(gltf_error(
                         path,

@@ -92,6 +92,21 @@ fn validate(path: &Path, root: &Root, warnings: &mut Vec<String>) -> Result<()> 
     }
     let mut fatal = Vec::new();
     for (where_, e) in problems {
+        if e == ValidationError::Unsupported {
+            match required_extension(root, &where_) {
+                Some(name) if HANDLED_EXTENSIONS.contains(&name) => continue,
+                Some("KHR_draco_mesh_compression") => {
+                    fatal.push(format!(
+                        "{where_} = \"KHR_draco_mesh_compression\": Draco-compressed meshes \
+                         cannot be read here; decompress the file first, for example with \
+                         glTF-Transform: `npx @gltf-transform/cli copy in.glb out.glb` \
+                         writes it without Draco"
+                    ));
+                    continue;
+                }
+                _ => {}
+            }
+        }
         // POSITION min/max are required by the specification but this importer does
         // not need them, so their absence is only reported. gltf-json spells the
         // path `attributes["POSITION"].min`.
@@ -129,6 +144,18 @@ fn validate(path: &Path, root: &Root, warnings: &mut Vec<String>) -> Result<()> 
         message.push_str(&format!(" (and {more} more)"));
     }
     Err(gltf_error(path, message))
+}
+
+/// Extensions a file may require that the importer handles (gltf-json does
+/// not know them and reports them as unsupported).
+const HANDLED_EXTENSIONS: [&str; 2] = ["KHR_mesh_quantization", super::meshopt::EXTENSION];
+
+/// The extension named at `extensionsRequired[i]`, when `where_` is that
+/// path (gltf-json spells it `extensionsRequired[i] = "NAME"`).
+fn required_extension<'a>(root: &'a Root, where_: &str) -> Option<&'a str> {
+    let rest = where_.strip_prefix("extensionsRequired[")?;
+    let index: usize = rest[..rest.find(']')?].parse().ok()?;
+    root.extensions_required.get(index).map(String::as_str)
 }
 
 fn problem_words(e: ValidationError) -> &'static str {

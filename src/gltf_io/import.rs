@@ -8,12 +8,25 @@ use super::limits::ImportLimits;
 use super::materials::{convert_materials, used_materials};
 use super::meshes::{add_mesh_instance, Decoded, Source};
 use super::nodes::walk;
+use super::options::LoadOptions;
 use super::textures::Images;
 use crate::error::{Error, Result};
-use crate::scene::Scene;
+use crate::scene::{facing_warnings, Scene};
 use std::path::Path;
 
-/// Loads a `.gltf` or `.glb` file as a [`Scene`] named after the file's stem.
+/// Loads a `.gltf` or `.glb` file as a [`Scene`] named after the file's stem,
+/// with the default repairs ([`LoadOptions::default`]); see
+/// [`load_scene_with`].
+///
+/// # Errors
+///
+/// As [`load_scene_with`].
+pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
+    load_scene_with(path, limits, &LoadOptions::default())
+}
+
+/// Loads a `.gltf` or `.glb` file as a [`Scene`] named after the file's stem,
+/// repaired as `options` say.
 ///
 /// - The default scene (else the first, else every parentless node) is walked with
 ///   node transforms (matrix or translation/rotation/scale) composed in `f64`.
@@ -30,16 +43,27 @@ use std::path::Path;
 ///   image once however many textures show it, and at most
 ///   [`ImportLimits::max_texture_pixels`] pixels over the whole file.
 /// - Perspective cameras are imported; orthographic ones are skipped with a warning.
+/// - Repairs, each with a warning: reflectance bands above
+///   [`LoadOptions::max_reflectance`] are clamped to it; with
+///   [`LoadOptions::double_sided`] every material is treated as double-sided;
+///   objects whose single-sided faces point against their neighbours are
+///   named; coplanar surfaces that overlap are resolved or refused as
+///   [`LoadOptions::overlaps`] says
+///   ([`Scene::resolve_overlaps`](crate::scene::Scene::resolve_overlaps)).
+///   `KHR_lights_punctual` lights are counted and ignored with a warning.
 ///
 /// # Errors
 ///
 /// [`Error::Io`] if the file cannot be read; [`Error::Gltf`] naming the file and
 /// the mesh, material, accessor or buffer for anything malformed (not glTF at all,
 /// invalid JSON, a buffer URI outside the file's folder, data out of range,
-/// non-finite positions, a reflectance above 1); [`Error::Limit`] when the file
-/// exceeds `limits`; [`Error::Geometry`] naming the file when it has no usable
-/// surface. Never panics, whatever the input.
-pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
+/// non-finite positions, negative or non-finite material values); [`Error::Limit`]
+/// when the file exceeds `limits`; [`Error::Geometry`] naming the file when it
+/// has no usable surface, or naming the overlapping objects with
+/// [`Overlaps::Error`](crate::scene::Overlaps::Error); [`Error::Setting`] for
+/// options out of range. Never panics, whatever the input.
+pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions) -> Result<Scene> {
+    options.validate()?;
     let bytes = read_limited(path, limits)?;
     let container = split(path, bytes)?;
     let mut scene = Scene {
@@ -49,7 +73,8 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
         ..Scene::default()
     };
     let doc = parse(path, &container.json, &mut scene.warnings)?;
-    let buffers = load_buffers(path, &doc, container.bin, limits)?;
+    let mut buffers = load_buffers(path, &doc, container.bin, limits)?;
+    super::meshopt::decompress_views(&doc, &mut buffers).map_err(|m| super::gltf_error(path, m))?;
     let placed = walk(path, &doc, limits)?;
     let mut images = Images::new(&doc, &buffers, path, limits);
     scene.materials = convert_materials(
@@ -57,8 +82,10 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
         &doc,
         &used_materials(&doc, &placed),
         &mut images,
+        options,
         &mut scene.warnings,
     )?;
+    scene.import_stats.punctual_lights = punctual_lights(&doc, &mut scene.warnings);
     scene.import_stats.images_decoded = images.decodes;
     scene.import_stats.texture_pixels = images.pixels;
     let source = Source {
@@ -94,5 +121,30 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
             path.display()
         )));
     }
+    let facing = facing_warnings(&scene);
+    scene.warnings.extend(facing);
+    scene
+        .resolve_overlaps(options.overlaps)
+        .map_err(|e| match e {
+            Error::Geometry(m) => super::gltf_error(path, m),
+            other => other,
+        })?;
     Ok(scene)
+}
+
+/// The number of `KHR_lights_punctual` lights the file defines, with a
+/// warning that they are ignored.
+fn punctual_lights(doc: &super::document::Document, warnings: &mut Vec<String>) -> usize {
+    let n = doc
+        .raw
+        .pointer("/extensions/KHR_lights_punctual/lights")
+        .and_then(|l| l.as_array())
+        .map_or(0, Vec::len);
+    if n > 0 {
+        warnings.push(format!(
+            "{n} KHR_lights_punctual lights ignored: this tool cannot use punctual lights yet \
+             (only emissive surfaces give light)"
+        ));
+    }
+    n
 }

@@ -7,6 +7,7 @@
 use super::document::Document;
 use super::gltf_error;
 use super::nodes::Placed;
+use super::options::LoadOptions;
 use super::precise::{number, numbers};
 use super::primitives::triangle_mode;
 use super::textures::{Images, Unusable};
@@ -39,18 +40,22 @@ pub(super) fn used_materials(doc: &Document, placed: &[Placed]) -> Vec<bool> {
 }
 
 /// Every material of the document, in the document's order, so that glTF material
-/// `i` is scene material `i`. A material outside the physical range (reflectance
-/// above 1, negative or non-finite values) is an error naming the material and the
-/// file. The textures of material `i` are decoded (through `images`, once per
+/// `i` is scene material `i`. Reflectance bands above `options.max_reflectance`
+/// (a pure-white `baseColorFactor`, or beyond glTF's range of 0 to 1) are clamped
+/// to it, with one warning naming every such material; with
+/// `options.double_sided` every material is double-sided. Negative or
+/// non-finite values are an error naming the material and the file. The textures of material `i` are decoded (through `images`, once per
 /// image) only when `used[i]`: an unused material keeps its factors alone.
 pub(super) fn convert_materials(
     path: &Path,
     doc: &Document,
     used: &[bool],
     images: &mut Images,
+    options: &LoadOptions,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<Material>> {
     let mut out = Vec::with_capacity(doc.root.materials.len());
+    let mut clamped: Vec<String> = Vec::new();
     for (i, m) in doc.root.materials.iter().enumerate() {
         let name = match m.name.as_deref() {
             Some(n) if !n.is_empty() => n.to_string(),
@@ -90,12 +95,32 @@ pub(super) fn convert_materials(
                 Err(Unusable::Refused(e)) => return Err(e),
             }
         }
+        let max = options.max_reflectance;
+        if reflectance.is_finite() && reflectance.max_band() > max {
+            clamped.push(format!("'{name}' ({})", bands(reflectance)));
+            reflectance = Rgb(reflectance.0.map(|r| r.min(max)));
+        }
         let mut material = Material::from_radiance(&name, reflectance, radiance)
             .map_err(|e| in_file(path, i, e))?;
-        material.double_sided = m.double_sided;
+        material.double_sided = m.double_sided || options.double_sided;
         out.push(material);
     }
+    if !clamped.is_empty() {
+        warnings.push(format!(
+            "reflectance clamped to {} (the most kept, --max-reflectance; near 1 light \
+             bounces almost for ever and the solve slows and loses accuracy) in {} materials: {}",
+            options.max_reflectance,
+            clamped.len(),
+            clamped.join(", ")
+        ));
+    }
     Ok(out)
+}
+
+/// Reflectance bands for a message, to three decimals.
+fn bands(r: Rgb) -> String {
+    let [a, b, c] = r.0;
+    format!("{a:.3}, {b:.3}, {c:.3}")
 }
 
 /// The material used where a primitive names none.

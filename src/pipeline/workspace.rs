@@ -38,7 +38,8 @@ pub(crate) struct Workspace<'a> {
 
 impl<'a> Workspace<'a> {
     /// Checks everything that can be known before the first form factor
-    /// (settings, the scene, overlapping surfaces), then cuts the mesh and
+    /// (settings, the scene, its light and reflectances, overlapping
+    /// surfaces), then cuts the mesh and
     /// splits it to the initial depth.
     pub(super) fn prepare(
         scene: &'a Scene,
@@ -52,6 +53,8 @@ impl<'a> Workspace<'a> {
                 scene.name
             )));
         }
+        scene.check_light()?;
+        scene.check_reflectance()?;
         check_coplanar_overlaps(scene)?;
         let started = Instant::now();
         let refine = &settings.refine;

@@ -1,17 +1,25 @@
 //! Building scenes in code: materials, objects, quads, triangles and boxes.
 
-use super::{Camera, Material, Object, Scene, Surface};
+use super::{Camera, Material, Object, Overlaps, Scene, Surface};
 use crate::error::{Error, Result};
 use crate::math::{planarity_error, Rgb};
 use glam::DVec3;
 
 /// Assembles a [`Scene`] from materials, named objects and polygons. Quads that are
 /// not planar are split into two triangles (so that measured data such as the
-/// Cornell box's slightly warped wall is usable as published).
-#[derive(Debug, Default)]
+/// Cornell box's slightly warped wall is usable as published). Coplanar
+/// overlaps are resolved when the scene is built (see [`SceneBuilder::overlaps`]).
+#[derive(Debug)]
 pub struct SceneBuilder {
     scene: Scene,
     current_object: Option<u32>,
+    overlaps: Option<Overlaps>,
+}
+
+impl Default for SceneBuilder {
+    fn default() -> Self {
+        SceneBuilder::new("scene")
+    }
 }
 
 impl SceneBuilder {
@@ -24,7 +32,17 @@ impl SceneBuilder {
                 ..Scene::default()
             },
             current_object: None,
+            overlaps: Some(Overlaps::Resolve),
         }
+    }
+
+    /// What [`build`](Self::build) does with coplanar surfaces that overlap,
+    /// facing the same way ([`Scene::resolve_overlaps`]): resolve them (the
+    /// default), refuse them, or with `None` leave the surfaces as they were
+    /// added (the solve still refuses pairs whose materials differ).
+    pub fn overlaps(&mut self, policy: Option<Overlaps>) -> &mut Self {
+        self.overlaps = policy;
+        self
     }
 
     /// Adds a material from reflectance and emitted radiance (glTF's convention);
@@ -155,14 +173,19 @@ impl SceneBuilder {
         self.scene.warnings.push(message);
     }
 
-    /// Finishes the scene; fails if it has no surfaces.
+    /// Finishes the scene, resolving or refusing coplanar overlaps as
+    /// [`overlaps`](Self::overlaps) says; fails if it has no surfaces.
     pub fn build(self) -> Result<Scene> {
-        if self.scene.surfaces.is_empty() {
+        let mut scene = self.scene;
+        if scene.surfaces.is_empty() {
             return Err(Error::Geometry(format!(
                 "scene '{}' has no surfaces",
-                self.scene.name
+                scene.name
             )));
         }
-        Ok(self.scene)
+        if let Some(policy) = self.overlaps {
+            scene.resolve_overlaps(policy)?;
+        }
+        Ok(scene)
     }
 }

@@ -41,21 +41,6 @@ impl Camera {
         }
     }
 
-    /// A default view that frames the bounds `lo..hi`: from the +Z side (glTF's
-    /// front), a little above and to the right, far enough back that the bounding
-    /// sphere fits a 45 degree field of view.
-    #[must_use]
-    pub fn framing(lo: DVec3, hi: DVec3) -> Self {
-        let centre = (lo + hi) * 0.5;
-        let radius = ((hi - lo) * 0.5).length().max(1e-9);
-        let yfov = 45f64.to_radians();
-        let dist = radius / (yfov * 0.5).sin();
-        let dir = DVec3::new(0.35, 0.25, 1.0).normalize();
-        let mut c = Camera::look_at(centre + dir * dist, centre, DVec3::Y, 45.0);
-        c.name = "framing".to_string();
-        c
-    }
-
     /// The unit right vector.
     #[must_use]
     pub fn right(&self) -> DVec3 {

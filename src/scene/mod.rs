@@ -3,15 +3,18 @@
 
 mod builder;
 mod camera;
+mod facing;
+mod framing;
 mod material;
 mod overlaps;
 mod surface;
 
 pub use builder::SceneBuilder;
 pub use camera::Camera;
+pub(crate) use facing::facing_warnings;
 pub use material::Material;
 pub(crate) use overlaps::check_coplanar_overlaps;
-pub use overlaps::COPLANAR_GAP;
+pub use overlaps::{Overlaps, COPLANAR_GAP};
 pub use surface::{Surface, MAX_COORDINATE};
 
 use glam::DVec3;
@@ -38,9 +41,19 @@ pub struct ImportStats {
     pub skipped_primitives: usize,
     /// Images read and decoded for textures (each at most once per file).
     pub images_decoded: usize,
+    /// `KHR_lights_punctual` lights defined in the file, which the solver
+    /// cannot use yet (they are ignored with a warning).
+    pub punctual_lights: usize,
     /// Pixels of those images, counted against
     /// [`ImportLimits::max_texture_pixels`](crate::gltf_io::ImportLimits::max_texture_pixels).
     pub texture_pixels: u64,
+    /// Pairs of coplanar surfaces that overlapped, facing the same way, and
+    /// were resolved (see [`Scene::resolve_overlaps`]), duplicates excluded.
+    pub overlapping_pairs: usize,
+    /// Surfaces dropped as coincident duplicates of a surface on top of them.
+    pub duplicate_surfaces: usize,
+    /// Pieces of cut surfaces thinner than the coplanar gap, dropped.
+    pub sliver_pieces_dropped: usize,
 }
 
 /// A scene ready to mesh: every surface is a planar triangle or convex quad, front
@@ -94,6 +107,89 @@ impl Scene {
     #[must_use]
     pub fn material_of(&self, s: &Surface) -> &Material {
         &self.materials[s.material as usize]
+    }
+
+    /// True when something in the scene gives light: a surface whose
+    /// material emits. (Sources outside the mesh, such as punctual lights,
+    /// will count here too once the solver takes them.)
+    #[must_use]
+    pub fn has_light(&self) -> bool {
+        self.surfaces
+            .iter()
+            .any(|s| self.material_of(s).is_emitter())
+    }
+
+    /// Fails with [`Error::NoLight`](crate::Error::NoLight) when nothing in
+    /// the scene gives light: the solution would be black everywhere. The
+    /// message says when the file's punctual lights, which the solver cannot
+    /// use yet, are the likely cause.
+    pub fn check_light(&self) -> crate::Result<()> {
+        if self.has_light() {
+            return Ok(());
+        }
+        let mut message = format!(
+            "scene '{}' has no light: no material emits (every emissiveFactor is zero or \
+             absent), so every surface would be black",
+            self.name
+        );
+        match self.import_stats.punctual_lights {
+            0 => message.push_str(
+                "; give a lamp, window or sky surface a material with an emissiveFactor \
+                 (and KHR_materials_emissive_strength for more than 1)",
+            ),
+            n => message.push_str(&format!(
+                "; the file's {n} KHR_lights_punctual lights are the usual cause: this tool \
+                 cannot use punctual lights yet. Model each lamp as a small surface with an \
+                 emissive material instead"
+            )),
+        }
+        Err(crate::Error::NoLight(message))
+    }
+
+    /// Fails with [`Error::Material`](crate::Error::Material) naming the first
+    /// material in use whose reflectance exceeds
+    /// [`MAX_CONTRACTION`](crate::solve::MAX_CONTRACTION): the solver would
+    /// refuse it only after the form factors (the glTF importer clamps such
+    /// materials; a scene built in code keeps the values it was given).
+    pub(crate) fn check_reflectance(&self) -> crate::Result<()> {
+        let limit = crate::solve::MAX_CONTRACTION;
+        let mut used = vec![false; self.materials.len()];
+        for s in &self.surfaces {
+            used[s.material as usize] = true;
+        }
+        let too_bright = self
+            .materials
+            .iter()
+            .zip(used)
+            .find(|(m, used)| *used && m.reflectance.max_band() > limit);
+        match too_bright {
+            None => Ok(()),
+            Some((m, _)) => Err(crate::Error::Material {
+                material: m.name.clone(),
+                message: format!(
+                    "reflectance {:?} is above {limit}, the most the solver takes: light \
+                     would bounce for ever in any closed part of the scene; lower it (0.95 \
+                     is as white as paint gets)",
+                    m.reflectance.0
+                ),
+            }),
+        }
+    }
+
+    /// Treats every surface as two-sided: each surface of a material not yet
+    /// double-sided gets a copy facing the other way, right after it (as the
+    /// importer adds `doubleSided` surfaces), and every material is marked
+    /// double-sided.
+    pub fn make_double_sided(&mut self) {
+        let surfaces = std::mem::take(&mut self.surfaces);
+        for s in surfaces {
+            let back = (!self.material_of(&s).double_sided).then(|| s.flipped());
+            self.surfaces.push(s);
+            self.surfaces.extend(back);
+        }
+        for m in &mut self.materials {
+            m.double_sided = true;
+        }
     }
 
     /// Total area of every surface.

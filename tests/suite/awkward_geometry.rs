@@ -12,7 +12,7 @@ use super::stress_scenes::{
 use glam::DVec3;
 use radiosity::analytic::lambert;
 use radiosity::math::Rgb;
-use radiosity::scene::{Scene, SceneBuilder};
+use radiosity::scene::{Overlaps, Scene, SceneBuilder};
 use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{Settings, Solution};
 
@@ -160,26 +160,7 @@ const LIGHT_RADIANCE: f64 = 10.0;
 /// A room with black walls, a grey floor, a ceiling of reflectance
 /// `ceiling_rho` and a light facing down `gap` below the ceiling.
 fn room_with_light_under_ceiling(gap: f64, ceiling_rho: f64) -> Scene {
-    let mut b = SceneBuilder::new("gap");
-    let black = b.material("black", Rgb::ZERO, Rgb::ZERO).unwrap();
-    let floor = b.material("floor", Rgb::splat(0.5), Rgb::ZERO).unwrap();
-    let ceiling = b
-        .material("ceiling", Rgb::splat(ceiling_rho), Rgb::ZERO)
-        .unwrap();
-    let light = b
-        .material("light", Rgb::ZERO, Rgb::splat(LIGHT_RADIANCE))
-        .unwrap();
-    room(
-        &mut b,
-        v(0.0, 0.0, 0.0),
-        v(2.0, 1.6, 2.4),
-        floor,
-        ceiling,
-        black,
-    );
-    b.object("light");
-    downward_quad(&mut b, light, 1.6 - gap, LIGHT_X, LIGHT_Z);
-    b.build().unwrap()
+    room_with_light_under_ceiling_as(gap, ceiling_rho, Some(Overlaps::Resolve)).unwrap()
 }
 
 #[test]
@@ -245,31 +226,68 @@ fn a_light_a_ten_thousandth_of_the_scene_below_the_ceiling() {
     assert!(lit > 0.0, "the rest of the ceiling is lit by the floor");
 }
 
+/// [`room_with_light_under_ceiling`] with the builder's overlap policy.
+fn room_with_light_under_ceiling_as(
+    gap: f64,
+    ceiling_rho: f64,
+    policy: Option<Overlaps>,
+) -> radiosity::Result<Scene> {
+    let mut b = SceneBuilder::new("gap");
+    b.overlaps(policy);
+    let black = b.material("black", Rgb::ZERO, Rgb::ZERO).unwrap();
+    let floor = b.material("floor", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+    let ceiling = b
+        .material("ceiling", Rgb::splat(ceiling_rho), Rgb::ZERO)
+        .unwrap();
+    let light = b
+        .material("light", Rgb::ZERO, Rgb::splat(LIGHT_RADIANCE))
+        .unwrap();
+    room(
+        &mut b,
+        v(0.0, 0.0, 0.0),
+        v(2.0, 1.6, 2.4),
+        floor,
+        ceiling,
+        black,
+    );
+    b.object("light");
+    downward_quad(&mut b, light, 1.6 - gap, LIGHT_X, LIGHT_Z);
+    b.build()
+}
+
 #[test]
-fn a_light_flush_with_the_ceiling_is_refused_by_name() {
+fn a_light_flush_with_the_ceiling_is_refused_by_name_when_overlaps_are_errors() {
     // Exactly in the ceiling's plane the item buffer cannot order the two, the
     // ceiling (drawn first) hides the light everywhere and the room would be
-    // black: the solve refuses it, naming both, whichever solver runs (both
-    // go through the same checks).
-    for (gap, solver_kind) in [0.0, 1e-9, 1e-6]
-        .into_iter()
-        .flat_map(|g| [(g, SolverKind::GaussSeidel), (g, SolverKind::Progressive)])
-    {
-        let settings = Settings {
-            solver_kind,
-            ..quick_settings(0.3)
-        };
-        let e = radiosity::solve(&room_with_light_under_ceiling(gap, 0.5), &settings, &|_| {})
-            .unwrap_err();
+    // black. With Overlaps::Error the builder refuses it, naming both; a scene
+    // left unresolved is refused by the solve, whichever solver runs (both go
+    // through the same checks).
+    for gap in [0.0, 1e-9, 1e-6] {
+        let e = room_with_light_under_ceiling_as(gap, 0.5, Some(Overlaps::Error)).unwrap_err();
         let text = e.to_string();
         assert!(matches!(e, radiosity::Error::Geometry(_)), "{text}");
         assert!(
             text.contains("'ceiling'") && text.contains("'light'") && text.contains("one plane"),
             "{text}"
         );
+        for solver_kind in [SolverKind::GaussSeidel, SolverKind::Progressive] {
+            let settings = Settings {
+                solver_kind,
+                ..quick_settings(0.3)
+            };
+            let scene = room_with_light_under_ceiling_as(gap, 0.5, None).unwrap();
+            let e = radiosity::solve(&scene, &settings, &|_| {}).unwrap_err();
+            let text = e.to_string();
+            assert!(matches!(e, radiosity::Error::Geometry(_)), "{text}");
+            assert!(
+                text.contains("'ceiling'") && text.contains("'light'"),
+                "{text}"
+            );
+        }
     }
     // Identical duplicates z-fight harmlessly (both look the same): accepted.
     let mut b = SceneBuilder::new("duplicates");
+    b.overlaps(None);
     let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
     let light = b.material("light", Rgb::ZERO, Rgb::ONE).unwrap();
     room(&mut b, v(0.0, 0.0, 0.0), v(2.0, 1.6, 2.4), grey, grey, grey);
@@ -285,6 +303,88 @@ fn a_light_flush_with_the_ceiling_is_refused_by_name() {
     )
     .unwrap();
     radiosity::solve(&b.build().unwrap(), &quick_settings(0.6), &|_| {}).unwrap();
+}
+
+/// Area-weighted mean radiosity (band 0) and area of the object `name`.
+fn object_mean(scene: &Scene, sol: &Solution, name: &str) -> (f64, f64) {
+    let o = sol
+        .object_radiosity(scene)
+        .into_iter()
+        .find(|o| o.name == name)
+        .unwrap();
+    (o.radiosity[0], o.area)
+}
+
+#[test]
+fn a_light_flush_with_the_ceiling_lights_the_room_as_one_just_below_it() {
+    // Resolved (the default), the flush light covers its footprint of the
+    // ceiling, which is cut away. With a black ceiling the floor then gets the
+    // light's direct light alone: Lambert's exact form factor, as for a light
+    // hanging clear of the ceiling. Light 1e-6 m below the ceiling (within the
+    // coplanar gap) is resolved the same way.
+    let exitance = LIGHT_RADIANCE * std::f64::consts::PI;
+    for gap in [0.0, 1e-6] {
+        let scene = room_with_light_under_ceiling_as(gap, 0.0, Some(Overlaps::Resolve)).unwrap();
+        assert_eq!(scene.import_stats.overlapping_pairs, 1);
+        let w = scene.warnings.join("\n");
+        assert!(w.contains("'light' over 'ceiling'"), "{w}");
+        let ceiling_area: f64 = scene
+            .surfaces
+            .iter()
+            .filter(|s| s.object == 1)
+            .map(|s| s.area)
+            .sum();
+        assert!(rel(ceiling_area, 2.0 * 2.4 - 0.36) < 1e-9, "{ceiling_area}");
+        let light_polygon: Vec<DVec3> = scene
+            .surfaces
+            .iter()
+            .find(|s| scene.material_of(s).is_emitter())
+            .unwrap()
+            .vertices
+            .to_vec();
+        let sol = radiosity::solve(&scene, &quick_settings(0.3), &|_| {}).unwrap();
+        assert_finite_non_negative(&sol, "flush, black ceiling");
+        let floor: Vec<_> = leaves(&sol)
+            .into_iter()
+            .filter(|e| scene.surfaces[e.surface as usize].object == 0)
+            .collect();
+        assert!(floor.len() > 50);
+        for e in floor {
+            let f = lambert::point_to_polygon(e.centroid, DVec3::Y, &light_polygon).unwrap();
+            let direct = 0.5 * exitance * f;
+            assert!(
+                rel(e.radiosity[0], direct) < 0.01,
+                "gap {gap}: floor element at {}: {} instead of {direct}",
+                e.centroid,
+                e.radiosity[0]
+            );
+        }
+    }
+    // Grey ceiling: the room as lit by the same light hanging 3.5e-4 m below
+    // a whole ceiling (clear of the gap, not an overlap): the ceiling's part
+    // above that light sees only the light's back and stays dark, so the
+    // floor's mean and the ceiling's power must agree with the cut ceiling's.
+    let clear = room_with_light_under_ceiling_as(3.5e-4, 0.5, Some(Overlaps::Resolve)).unwrap();
+    assert_eq!(clear.import_stats.overlapping_pairs, 0);
+    let clear_sol = radiosity::solve(&clear, &quick_settings(0.3), &|_| {}).unwrap();
+    let (floor_clear, _) = object_mean(&clear, &clear_sol, "floor");
+    let (ceiling_clear, ceiling_area_clear) = object_mean(&clear, &clear_sol, "ceiling");
+    for gap in [0.0, 1e-6] {
+        let scene = room_with_light_under_ceiling_as(gap, 0.5, Some(Overlaps::Resolve)).unwrap();
+        let sol = radiosity::solve(&scene, &quick_settings(0.3), &|_| {}).unwrap();
+        let (floor, _) = object_mean(&scene, &sol, "floor");
+        let (ceiling, ceiling_area) = object_mean(&scene, &sol, "ceiling");
+        assert!(floor > 0.0);
+        assert!(
+            rel(floor, floor_clear) < 0.01,
+            "gap {gap}: floor {floor} against {floor_clear} below a whole ceiling"
+        );
+        let (power, power_clear) = (ceiling * ceiling_area, ceiling_clear * ceiling_area_clear);
+        assert!(
+            rel(power, power_clear) < 0.02,
+            "gap {gap}: ceiling power {power} against {power_clear}"
+        );
+    }
 }
 
 const BOX_X: (f64, f64) = (0.6, 1.2);

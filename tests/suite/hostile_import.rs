@@ -229,7 +229,11 @@ fn the_texture_pixel_limit_counts_every_image_of_a_file() {
         warning.contains("image 1 ('second')") && warning.contains("limit of 20"),
         "{warning}"
     );
-    assert_eq!(scene.materials[1].reflectance.0, [1.0; 3]);
+    // The texture left out, the white factor is clamped like any other.
+    assert_eq!(
+        scene.materials[1].reflectance.0,
+        [radiosity::gltf_io::DEFAULT_MAX_REFLECTANCE; 3]
+    );
 }
 
 /// The fixtures leave out POSITION's min and max, which glTF requires but the

@@ -1,0 +1,310 @@
+//! A default view of a scene that has no camera, framed as a person would:
+//! from inside an enclosure, looking across at its interior; from outside an
+//! object, looking at it.
+//!
+//! - **What to frame.** The surfaces that do not emit, and the emitters
+//!   among them (within their bounds widened by a tenth): a sky quad or a
+//!   sun proxy far away lights the scene but does not shrink it in the frame.
+//! - **Inside or outside.** The signed solid angle that the framed surfaces'
+//!   fronts subtend at a point, over 4 pi, is the winding number of the
+//!   surface around it: 1 inside a closed room whose walls face inwards,
+//!   about 0.8 inside a box open on one side, 0 outside everything, -1 inside
+//!   a closed object. It is taken at the centre of the bounds and at six
+//!   points around it (so that a table at the centre does not hide the room
+//!   around it); above one half at any of them, the scene is an enclosure.
+//! - **Inside.** The eye looks horizontally across the enclosure from the
+//!   side with the least inward-facing area near it (the open side of a
+//!   Cornell box; the +z wall, glTF's front, when all are alike), at
+//!   mid-height. A side with (almost) no wall is an opening: the eye stands
+//!   back from it until the opening fills a 45 degree view, as the Cornell
+//!   box's own camera does. Otherwise the eye stands just inside the wall,
+//!   with a field of view that takes in the far wall.
+//! - **Outside.** From the +z side (glTF's front), a little above and to the
+//!   right, far enough back that the bounding sphere fits a 45 degree view.
+
+use super::{Camera, Scene, Surface};
+use glam::DVec3;
+
+/// Winding number above which a point counts as inside an enclosure.
+const INSIDE: f64 = 0.5;
+
+impl Camera {
+    /// A default view of `scene`, framed as a person would. Far-away
+    /// emitters (outside the non-emitting surfaces' bounds widened by a
+    /// tenth: a sky quad, a sun) are left out of the framing. When the
+    /// winding number of the surfaces around the bounds' centre, or one of
+    /// six points around it, is above one half, the scene is an enclosure:
+    /// the eye looks horizontally across it from the side with the least
+    /// inward-facing area near it (+z when all are alike), standing back
+    /// from an open side until it fills a 45 degree view, or just inside a
+    /// wall. Otherwise the view is [`Camera::framing_box`] of the bounds.
+    #[must_use]
+    pub fn framing(scene: &Scene) -> Self {
+        let framed = framed_surfaces(scene);
+        let (lo, hi) = bounds(&framed);
+        if lo.x > hi.x {
+            return Camera::framing_box(DVec3::ZERO, DVec3::ONE);
+        }
+        let mut camera = if is_enclosure(&framed, lo, hi) {
+            from_inside(&framed, lo, hi)
+        } else {
+            Camera::framing_box(lo, hi)
+        };
+        camera.name = "framing".to_string();
+        camera
+    }
+
+    /// A default view that frames the bounds `lo..hi` from outside: from the
+    /// +Z side (glTF's front), a little above and to the right, far enough
+    /// back that the bounding sphere fits a 45 degree field of view.
+    #[must_use]
+    pub fn framing_box(lo: DVec3, hi: DVec3) -> Self {
+        let centre = (lo + hi) * 0.5;
+        let radius = ((hi - lo) * 0.5).length().max(1e-9);
+        let yfov = 45f64.to_radians();
+        let dist = radius / (yfov * 0.5).sin();
+        let dir = DVec3::new(0.35, 0.25, 1.0).normalize();
+        let mut c = Camera::look_at(centre + dir * dist, centre, DVec3::Y, 45.0);
+        c.name = "framing".to_string();
+        c
+    }
+}
+
+/// The non-emitting surfaces, and the emitters within their bounds widened
+/// by a tenth of their size; every surface when none is left.
+fn framed_surfaces(scene: &Scene) -> Vec<&Surface> {
+    let (plain, emitters): (Vec<&Surface>, Vec<&Surface>) = scene
+        .surfaces
+        .iter()
+        .partition(|s| !scene.material_of(s).is_emitter());
+    if plain.is_empty() {
+        return emitters;
+    }
+    let (lo, hi) = bounds(&plain);
+    let margin = (hi - lo) * 0.1;
+    let (lo, hi) = (lo - margin, hi + margin);
+    let near = |s: &&Surface| {
+        s.vertices
+            .iter()
+            .all(|p| p.cmpge(lo).all() && p.cmple(hi).all())
+    };
+    plain
+        .into_iter()
+        .chain(emitters.into_iter().filter(near))
+        .collect()
+}
+
+fn bounds(surfaces: &[&Surface]) -> (DVec3, DVec3) {
+    surfaces
+        .iter()
+        .flat_map(|s| s.vertices.iter())
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        })
+}
+
+/// The winding number of the surfaces' fronts around `point`: the solid
+/// angle of the fronts seen from it, less that of the backs, over 4 pi.
+pub(crate) fn winding_number(surfaces: &[&Surface], point: DVec3) -> f64 {
+    let mut omega = 0.0;
+    for s in surfaces {
+        let v = &s.vertices;
+        for k in 1..v.len() - 1 {
+            omega += triangle_solid_angle(v[0] - point, v[k] - point, v[k + 1] - point);
+        }
+    }
+    omega / (4.0 * std::f64::consts::PI)
+}
+
+/// The signed solid angle of triangle `a b c` (relative to the eye):
+/// positive when its front (counter-clockwise side) faces the eye (van
+/// Oosterom and Strackee's formula).
+fn triangle_solid_angle(a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let numerator = a.dot(b.cross(c));
+    let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    // Counter-clockwise seen from the eye means a . (b x c) < 0.
+    -2.0 * numerator.atan2(denominator)
+}
+
+fn is_enclosure(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> bool {
+    let centre = (lo + hi) * 0.5;
+    let quarter = (hi - lo) * 0.25;
+    let mut points = vec![centre];
+    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+        points.push(centre + axis * quarter);
+        points.push(centre - axis * quarter);
+    }
+    points
+        .into_iter()
+        .any(|p| winding_number(surfaces, p) > INSIDE)
+}
+
+/// The view from just inside the side with the least inward-facing area
+/// near it, across the enclosure.
+fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> Camera {
+    let size = hi - lo;
+    let centre = (lo + hi) * 0.5;
+    // Sides in order of preference when their walls are alike: +z first.
+    let sides = [DVec3::Z, DVec3::X, DVec3::NEG_X, DVec3::NEG_Z];
+    let wall_area = |side: DVec3| {
+        let extent = size.dot(side.abs());
+        let plane = centre + side * (0.5 * extent);
+        surfaces
+            .iter()
+            .filter(|s| {
+                s.normal.dot(-side) > 0.5
+                    && s.vertices
+                        .iter()
+                        .all(|p| (p - plane).dot(side).abs() <= 0.05 * extent)
+            })
+            .map(|s| s.area)
+            .sum::<f64>()
+    };
+    let areas: Vec<f64> = sides.iter().map(|s| wall_area(*s)).collect();
+    let best = (0..sides.len())
+        .min_by(|&a, &b| areas[a].total_cmp(&areas[b]).then(a.cmp(&b)))
+        .unwrap_or(0);
+    let side = sides[best];
+    let depth = size.dot(side.abs());
+    let width = size.dot(side.cross(DVec3::Y).abs());
+    // Half the height the view must take in: the enclosure's height, or its
+    // width in a 4:3 frame.
+    let half = (0.5 * size.y).max(0.5 * width * 0.75).max(1e-9);
+    let opening = centre + side * (0.5 * depth);
+    if areas[best] < 0.05 * size.y * width {
+        // An open side (the front of a Cornell box): stand back from it so
+        // that the opening fills a 45 degree view, as the box's own camera.
+        let back = half / 22.5f64.to_radians().tan();
+        let eye = opening + side * back;
+        return Camera::look_at(eye, eye - side, DVec3::Y, 45.0);
+    }
+    // A closed room: just inside the wall, with a field of view that takes
+    // in the far wall (within 40 to 90 degrees).
+    let eye = centre + side * (0.45 * depth);
+    let across = (0.9 * depth).max(1e-9);
+    let yfov = (2.0 * (half / across).atan() * 1.05)
+        .to_degrees()
+        .clamp(40.0, 90.0);
+    Camera::look_at(eye, eye - side, DVec3::Y, yfov)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Rgb;
+    use crate::scene::SceneBuilder;
+
+    fn v(x: f64, y: f64, z: f64) -> DVec3 {
+        DVec3::new(x, y, z)
+    }
+
+    /// A room 4 x 3 x 6 with inward faces, open at +z when `open`, with a
+    /// lamp under the ceiling and a box in the middle; and a sky quad 1 km
+    /// up when `sky`.
+    fn room(open: bool, sky: bool) -> Scene {
+        let mut b = SceneBuilder::new("room");
+        let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        let lamp = b.material("lamp", Rgb::ZERO, Rgb::ONE).unwrap();
+        let (x, y, z) = (4.0, 3.0, 6.0);
+        b.object("room");
+        b.quad(grey, v(0., 0., 0.), v(0., 0., z), v(x, 0., z), v(x, 0., 0.))
+            .unwrap(); // floor, up
+        b.quad(grey, v(0., y, 0.), v(x, y, 0.), v(x, y, z), v(0., y, z))
+            .unwrap(); // ceiling, down
+        b.quad(grey, v(0., 0., 0.), v(x, 0., 0.), v(x, y, 0.), v(0., y, 0.))
+            .unwrap(); // z = 0, +z
+        b.quad(grey, v(0., 0., 0.), v(0., y, 0.), v(0., y, z), v(0., 0., z))
+            .unwrap(); // x = 0, +x
+        b.quad(grey, v(x, 0., 0.), v(x, 0., z), v(x, y, z), v(x, y, 0.))
+            .unwrap(); // x = 4, -x
+        if !open {
+            b.quad(grey, v(0., 0., z), v(0., y, z), v(x, y, z), v(x, 0., z))
+                .unwrap(); // z = 6, -z
+        }
+        b.object("lamp");
+        b.quad(
+            lamp,
+            v(1.5, 2.9, 2.5),
+            v(2.5, 2.9, 2.5),
+            v(2.5, 2.9, 3.5),
+            v(1.5, 2.9, 3.5),
+        )
+        .unwrap();
+        b.axis_box("table", grey, v(1.5, 0.0, 2.5), v(2.5, 1.6, 3.5))
+            .unwrap();
+        if sky {
+            b.object("sky");
+            let (s, h) = (1000.0, 1000.0);
+            b.quad(lamp, v(-s, h, -s), v(s, h, -s), v(s, h, s), v(-s, h, s))
+                .unwrap();
+        }
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn the_winding_number_is_one_inside_a_room_and_zero_outside() {
+        let scene = room(false, false);
+        // The closed room and the closed table; the lamp is an open sheet.
+        let all: Vec<&Surface> = scene
+            .surfaces
+            .iter()
+            .filter(|s| !scene.material_of(s).is_emitter())
+            .collect();
+        let inside = winding_number(&all, v(1.0, 1.0, 1.0));
+        assert!((inside - 1.0).abs() < 1e-9, "{inside}");
+        let outside = winding_number(&all, v(10.0, 1.0, 1.0));
+        assert!(outside.abs() < 1e-9, "{outside}");
+        // Inside the table (outward faces) inside the room: 1 - 1.
+        let in_table = winding_number(&all, v(2.0, 0.8, 3.0));
+        assert!(in_table.abs() < 1e-9, "{in_table}");
+    }
+
+    #[test]
+    fn a_room_is_seen_from_inside_from_its_open_side_and_a_far_sky_is_left_out() {
+        let camera = Camera::framing(&room(true, true));
+        // In front of the open side at z = 6, looking in towards -z, far
+        // enough back that the 4 x 3 opening fills 45 degrees: half the
+        // width in a 4:3 frame (1.5 m) over tan(22.5 degrees).
+        let p = camera.position;
+        let back = 1.5 / 22.5f64.to_radians().tan();
+        assert!((p - v(2.0, 1.5, 6.0 + back)).length() < 1e-9, "{p}");
+        assert!(
+            camera.forward.dot(DVec3::NEG_Z) > 0.999_999,
+            "{:?}",
+            camera.forward
+        );
+        // Closed: from just inside the +z wall (the walls are alike).
+        let closed = Camera::framing(&room(false, false));
+        let p = closed.position;
+        assert!((p - v(2.0, 1.5, 3.0 + 0.45 * 6.0)).length() < 1e-9, "{p}");
+        assert!(closed.forward.dot(DVec3::NEG_Z) > 0.999_999);
+    }
+
+    #[test]
+    fn an_object_is_seen_from_outside_framed_without_a_far_sky() {
+        let mut b = SceneBuilder::new("object");
+        let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        let lamp = b.material("lamp", Rgb::ZERO, Rgb::ONE).unwrap();
+        b.axis_box("box", grey, v(-1.0, 0.0, -1.0), v(1.0, 2.0, 1.0))
+            .unwrap();
+        b.object("sun");
+        b.quad(
+            lamp,
+            v(-5.0, 500.0, -5.0),
+            v(5.0, 500.0, -5.0),
+            v(5.0, 500.0, 5.0),
+            v(-5.0, 500.0, 5.0),
+        )
+        .unwrap();
+        let scene = b.build().unwrap();
+        let camera = Camera::framing(&scene);
+        let expected = Camera::framing_box(v(-1.0, 0.0, -1.0), v(1.0, 2.0, 1.0));
+        assert_eq!(camera.position, expected.position);
+        assert_eq!(camera.forward, expected.forward);
+        // Outside the box, looking at its centre from the front.
+        assert!(camera.position.z > 1.0);
+        let to_centre = (v(0.0, 1.0, 0.0) - camera.position).normalize();
+        assert!(camera.forward.dot(to_centre) > 0.999_999);
+    }
+}
