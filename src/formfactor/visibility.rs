@@ -21,6 +21,13 @@ use obvhs::{Boundable, BvhBuildParams};
 use smallvec::SmallVec;
 use std::time::Duration;
 
+/// Rays along each side of the stratified grid that decides the visible
+/// fraction of an emitter the item buffer saw in part (or that a first small
+/// set of rays could not settle). A straight shadow edge crosses about this
+/// many strata, so the fraction's standard error is about `0.5 sqrt(n) / n^2`
+/// (0.8% at 16, 0.3% at 32), per element, and averages out over a surface.
+const PARTIAL_RAYS: usize = 16;
+
 struct Bounds(Aabb);
 
 impl Boundable for Bounds {
@@ -335,7 +342,7 @@ impl Occluders {
     /// [`super::EmitterSampling::Rays`] uses. Stratified jittered rays are
     /// weighted by the point-to-point kernel. A first, small set of rays is
     /// trusted only when its rays agree with each other and with what the item
-    /// buffer saw (`hint`); otherwise 32 x 32 rays decide, since a thin visible
+    /// buffer saw (`hint`); otherwise [`PARTIAL_RAYS`] squared decide, since a thin visible
     /// or hidden sliver can slip between the first samples.
     #[must_use]
     #[allow(clippy::too_many_arguments)]
@@ -401,7 +408,7 @@ impl Occluders {
                 return seen / total;
             }
         }
-        let (seen, total, _) = sample(32, &mut state);
+        let (seen, total, _) = sample(PARTIAL_RAYS, &mut state);
         if total > 0.0 {
             seen / total
         } else {

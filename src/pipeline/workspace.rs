@@ -72,6 +72,7 @@ impl<'a> Workspace<'a> {
             &mut mesh,
             refine.uniform_depth.unwrap_or(refine.initial_depth),
             refine.max_elements,
+            refine.uniform_depth.is_none(),
         )?;
         let mut stats = SolveStats::default();
         stats.seconds.mesh = t.elapsed().as_secs_f64();
@@ -217,8 +218,29 @@ impl<'a> Workspace<'a> {
 }
 
 /// Splits every patch to `depth`, failing if that would exceed `max_elements`.
-pub(crate) fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -> Result<()> {
-    let leaves = mesh.patches.len() as f64 * 4f64.powi(i32::from(depth));
+/// With `whole_clusters`, the roots of face clusters are left whole: a
+/// cluster's surfaces already divide it into elements, each smaller than the
+/// patch (splitting them would multiply the rows of a cluttered scene by four
+/// where nothing yet says the light changes).
+pub(crate) fn split_uniformly(
+    mesh: &mut Mesh,
+    depth: u8,
+    max_elements: usize,
+    whole_clusters: bool,
+) -> Result<()> {
+    let splits = |p: &crate::mesh::Patch| !(whole_clusters && p.is_cluster());
+    let leaves: f64 = mesh
+        .patches
+        .iter()
+        .map(|p| {
+            let per_root = if splits(p) {
+                4f64.powi(i32::from(depth))
+            } else {
+                1.0
+            };
+            p.roots.len() as f64 * per_root
+        })
+        .sum();
     if leaves > max_elements as f64 {
         return Err(Error::Limit(format!(
             "{} patches split to depth {depth} give {leaves} elements, more than the \
@@ -228,7 +250,10 @@ pub(crate) fn split_uniformly(mesh: &mut Mesh, depth: u8, max_elements: usize) -
     }
     for _ in 0..depth {
         for k in mesh.leaves() {
-            mesh.split(k);
+            let patch = mesh.elements[k].patch as usize;
+            if splits(&mesh.patches[patch]) {
+                mesh.split(k);
+            }
         }
     }
     Ok(())

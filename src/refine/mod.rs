@@ -15,7 +15,8 @@ pub struct RefineSettings {
     /// `None` for adaptive refinement; `Some(d)` subdivides every patch to depth
     /// `d` uniformly and does not adapt (for comparisons).
     pub uniform_depth: Option<u8>,
-    /// Depth every patch is split to before the first solve (adaptive mode).
+    /// Depth every patch is split to before the first solve (adaptive mode);
+    /// face clusters stay whole, their surfaces being their elements.
     pub initial_depth: u8,
     /// Split when neighbouring radiosities differ by more than this fraction of
     /// the scene's brightest reflected radiosity, in any band.
