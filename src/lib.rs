@@ -88,5 +88,5 @@ pub mod refine;
 pub mod solution;
 pub mod solve;
 
-pub use pipeline::{solve, Settings};
+pub use pipeline::{solve, Settings, DEFAULT_MAX_MEMORY};
 pub use solution::Solution;

@@ -264,9 +264,18 @@ pub struct SolveSettingsArgs {
     /// Smallest element area in square metres [default: (diagonal / 1000)^2].
     #[arg(long = "min-element-area")]
     pub min_element_area: Option<f64>,
-    /// Most leaf elements.
-    #[arg(long = "max-elements", default_value_t = 200_000)]
-    pub max_elements: usize,
+    /// Most leaf elements [default: as many as --max-memory holds].
+    #[arg(long = "max-elements")]
+    pub max_elements: Option<usize>,
+    /// Most patches [default: as many as --max-memory holds].
+    #[arg(long = "max-patches")]
+    pub max_patches: Option<usize>,
+    /// Memory the solve may hold, in GB: a scene whose estimate does not fit is
+    /// refused before any form factor, and refinement stops adding elements
+    /// when the rows would not fit [default: three quarters of the machine's
+    /// memory].
+    #[arg(long = "max-memory")]
+    pub max_memory: Option<f64>,
     /// Split a source patch whose elements spread by more than this fraction of
     /// the brightest reflected radiosity (its children become patches; gauss-seidel
     /// only); 0 never splits sources. Try 0.1 where sources are close to what

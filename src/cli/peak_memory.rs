@@ -15,13 +15,36 @@ pub fn peak_resident_bytes() -> Option<u64> {
 /// `VmHWM` in bytes from the text of `/proc/self/status` (given in kB, which
 /// the kernel means as KiB).
 fn parse_vm_hwm(status: &str) -> Option<u64> {
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let mut words = line["VmHWM:".len()..].split_whitespace();
+    parse_kib(status, "VmHWM:")
+}
+
+/// The figure of the line starting with `key` in a `/proc` file, given in
+/// kB (which the kernel means as KiB), in bytes.
+fn parse_kib(text: &str, key: &str) -> Option<u64> {
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    let mut words = line[key.len()..].split_whitespace();
     let value: u64 = words.next()?.parse().ok()?;
     match words.next() {
         Some("kB") => value.checked_mul(1024),
         _ => None,
     }
+}
+
+/// The machine's memory in bytes: `MemTotal` from `/proc/meminfo`. `None`
+/// on other systems or if the file cannot be read.
+pub fn machine_bytes() -> Option<u64> {
+    if !cfg!(target_os = "linux") {
+        return None;
+    }
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    parse_kib(&info, "MemTotal:")
+}
+
+/// What a solve may hold when `--max-memory` is not given: three quarters of
+/// the machine's memory, leaving room for the system and the images, or the
+/// library's default where the machine cannot be asked.
+pub fn default_max_memory() -> u64 {
+    machine_bytes().map_or(radiosity::DEFAULT_MAX_MEMORY, |b| b / 4 * 3)
 }
 
 #[cfg(test)]

@@ -114,15 +114,28 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             tolerance: a.refine_tolerance,
             max_depth: a.max_depth,
             min_element_area: a.min_element_area,
-            max_elements: a.max_elements,
+            max_elements: a.max_elements.unwrap_or(usize::MAX),
             source_tolerance: (a.source_tolerance > 0.0).then_some(a.source_tolerance),
             ..RefineSettings::default()
         },
         bounces: if a.direct_only { Some(1) } else { a.bounces },
+        max_patches: a.max_patches.unwrap_or(usize::MAX),
+        max_memory: max_memory(a.max_memory)?,
         ..Settings::default()
     };
     settings.validate()?;
     Ok(settings)
+}
+
+/// `--max-memory` in bytes, or the machine's default.
+fn max_memory(gigabytes: Option<f64>) -> Result<u64> {
+    match gigabytes {
+        None => Ok(super::peak_memory::default_max_memory()),
+        Some(g) if g.is_finite() && g > 0.0 && g < 1e9 => Ok((g * 1e9) as u64),
+        Some(g) => Err(anyhow::anyhow!(
+            "--max-memory must be a positive number of GB, got {g}"
+        )),
+    }
 }
 
 #[derive(Serialize)]

@@ -7,6 +7,7 @@
 //! the solver brings its solution up to the new mesh.
 
 mod gathering;
+mod memory;
 mod progress;
 mod settings;
 mod shooting;
@@ -16,7 +17,7 @@ mod strategy;
 mod workspace;
 
 pub use progress::{Progress, Stage};
-pub use settings::Settings;
+pub use settings::{Settings, DEFAULT_MAX_MEMORY};
 pub use shooting::Preview;
 pub use skips::Skips;
 pub use stats::MemoryFigures;

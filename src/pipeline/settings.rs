@@ -7,6 +7,9 @@ use crate::refine::RefineSettings;
 use crate::scene::Scene;
 use crate::solve::{ProgressiveSettings, SolverKind, SolverSettings};
 
+/// What [`Settings::max_memory`] is unless set: 8 GiB.
+pub const DEFAULT_MAX_MEMORY: u64 = 8 << 30;
+
 /// Everything a solve can be told.
 #[derive(Clone, Debug)]
 pub struct Settings {
@@ -42,8 +45,15 @@ pub struct Settings {
     pub progressive: ProgressiveSettings,
     /// Refinement.
     pub refine: RefineSettings,
-    /// Most patches the mesh may hold.
+    /// Most patches the mesh may hold (no limit by default: memory decides,
+    /// see `max_memory`).
     pub max_patches: usize,
+    /// Bytes the solve may hold. The scene is refused before the first form
+    /// factor when the mesh's estimate does not fit, and refinement adds
+    /// elements only while the bytes measured per element still fit. The
+    /// library's default is [`DEFAULT_MAX_MEMORY`]; the command-line tool
+    /// uses most of the machine's memory.
+    pub max_memory: u64,
     /// `None`: the full solution. `Some(n)`: emitted light and exactly `n`
     /// reflections, no more (`Some(1)` is direct light only, what a ray tracer
     /// without an ambient term computes for diffuse surfaces); gathering solver
@@ -68,7 +78,8 @@ impl Default for Settings {
             solver_kind: SolverKind::default(),
             progressive: ProgressiveSettings::default(),
             refine: RefineSettings::default(),
-            max_patches: 50_000,
+            max_patches: usize::MAX,
+            max_memory: DEFAULT_MAX_MEMORY,
             bounces: None,
             skips: Skips::default(),
         }
@@ -126,6 +137,9 @@ impl Settings {
                         .to_string(),
                 );
             }
+        }
+        if self.max_memory == 0 {
+            return bad("max-memory", "must be more than 0 bytes".to_string());
         }
         self.progressive.validate()?;
         self.refine.validate()

@@ -206,8 +206,9 @@ pub struct SolveStats {
     pub progressive: Option<crate::solve::progressive::ProgressiveStats>,
     /// Heap bytes held by the final mesh and patch system (an estimate).
     pub memory: MemoryFigures,
-    /// What the caller should know about the result: for now, a closed scene
-    /// whose energy balance is off by more than [`ENERGY_WARNING`].
+    /// What the caller should know about the result: a closed scene whose
+    /// energy balance is off by more than [`ENERGY_WARNING`], refinement
+    /// stopped by the element or memory budget.
     pub warnings: Vec<String>,
 }
 

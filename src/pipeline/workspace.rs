@@ -3,6 +3,7 @@
 //! callback. Set-up, checks, meshing, rows and refinement steps live here
 //! once, for both solvers.
 
+use super::memory;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
 use crate::error::{Error, Result};
@@ -62,18 +63,30 @@ impl<'a> Workspace<'a> {
             .min_element_area
             .unwrap_or_else(|| (scene.diameter() * 1e-3).powi(2));
         let t = Instant::now();
+        // No more patches than memory could hold with one leaf each: checked
+        // surface by surface before the lattice is allocated.
+        let fit = memory::patches_that_fit(settings.max_memory);
         let mut mesh = Mesh::build(
             scene,
             settings.patch_size_for(scene),
-            settings.max_patches,
+            settings.max_patches.min(fit),
             settings.face_clusters,
-        )?;
+        )
+        .map_err(|e| match e {
+            Error::Limit(text) if fit < settings.max_patches => Error::Limit(format!(
+                "{text} ({fit} patches is what the memory limit of {} can hold; \
+                 --max-memory raises it)",
+                memory::gigabytes(settings.max_memory)
+            )),
+            e => e,
+        })?;
         split_uniformly(
             &mut mesh,
             refine.uniform_depth.unwrap_or(refine.initial_depth),
             refine.max_elements,
             refine.uniform_depth.is_none(),
         )?;
+        memory::check_fits(&mesh, settings.max_memory)?;
         let mut stats = SolveStats::default();
         stats.seconds.mesh = t.elapsed().as_secs_f64();
         let plan = RowPlan::new(&mesh, settings);
@@ -141,7 +154,10 @@ impl<'a> Workspace<'a> {
     /// refinement tolerance, within the element budget.
     pub(super) fn mark(&mut self) -> Marks {
         let refine = &self.settings.refine;
-        let room = refine.max_elements.saturating_sub(self.mesh.leaf_count());
+        let room = refine
+            .max_elements
+            .saturating_sub(self.mesh.leaf_count())
+            .min(self.leaves_that_fit());
         let marks = mark_for_split(
             &self.mesh,
             &self.radiosity,
@@ -151,7 +167,28 @@ impl<'a> Workspace<'a> {
             room,
         );
         self.stats.final_max_difference = marks.max_difference;
+        if marks.over_budget > 0 && !self.stats.warnings.iter().any(|w| w.starts_with(BUDGET)) {
+            self.stats.warnings.push(format!(
+                "{BUDGET}: {} leaves that differ from a neighbour by more than the refinement \
+                 tolerance were left whole (the memory limit is {}; --max-memory or \
+                 --max-elements raise the budget)",
+                marks.over_budget,
+                memory::gigabytes(self.settings.max_memory)
+            ));
+        }
         marks
+    }
+
+    /// How many more leaves the memory limit holds, at the bytes per leaf
+    /// the rows computed so far take.
+    fn leaves_that_fit(&self) -> usize {
+        let rows = self.form_factors.row_bytes() as f64;
+        let leaves = self.mesh.leaf_count().max(1) as f64;
+        let used = memory::estimate(&self.mesh) as f64;
+        // The estimate's rows replaced by the measured ones.
+        let per_leaf = memory::leaf_bytes() as f64 + rows / leaves;
+        let used = used - leaves * memory::estimated_row_bytes(self.mesh.patches().len()) + rows;
+        memory::leaves_that_fit(self.settings.max_memory, used.max(0.0) as u64, per_leaf)
     }
 
     /// Splits the marked leaves and whatever the 2:1 balance then needs;
@@ -216,6 +253,9 @@ impl<'a> Workspace<'a> {
         self.stats.seconds.total = self.started.elapsed().as_secs_f64();
     }
 }
+
+/// How the warning about refinement held back by the budget starts.
+const BUDGET: &str = "refinement stopped at the element budget";
 
 /// Splits every patch to `depth`, failing if that would exceed `max_elements`.
 /// With `whole_clusters`, the roots of face clusters are left whole: a

@@ -12,6 +12,8 @@ pub(crate) struct Marks {
     pub max_difference: f64,
     /// Leaves that exceed the tolerance but may not split (depth, size, budget).
     pub blocked: usize,
+    /// Of the blocked leaves, those that only the budget kept whole.
+    pub over_budget: usize,
 }
 
 /// Marks leaves whose radiosity differs from an edge neighbour's by more than
@@ -67,8 +69,13 @@ pub(crate) fn mark_for_split(
     let mut budget = room;
     for (i, _) in candidates {
         let e = &mesh.elements[leaves[i]];
-        if e.depth >= max_depth || e.area * 0.25 < min_area || budget < 3 {
+        if e.depth >= max_depth || e.area * 0.25 < min_area {
             marks.blocked += 1;
+            continue;
+        }
+        if budget < 3 {
+            marks.blocked += 1;
+            marks.over_budget += 1;
             continue;
         }
         budget -= 3;

@@ -25,7 +25,8 @@ pub struct RefineSettings {
     pub max_depth: u8,
     /// Smallest element area (square metres); `None` derives it from the scene.
     pub min_element_area: Option<f64>,
-    /// Most leaf elements the mesh may hold.
+    /// Most leaf elements the mesh may hold (no limit by default: the memory
+    /// limit, `crate::Settings::max_memory`, decides).
     pub max_elements: usize,
     /// Most refinement passes.
     pub max_passes: usize,
@@ -48,7 +49,7 @@ impl Default for RefineSettings {
             tolerance: 0.05,
             max_depth: 4,
             min_element_area: None,
-            max_elements: 200_000,
+            max_elements: usize::MAX,
             max_passes: 8,
             // Off by default: with exposure-weighted patch rows, smaller patches
             // buy more accuracy per second on the Cornell box (see the README).
