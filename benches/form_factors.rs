@@ -1,6 +1,7 @@
 //! Form factors: one hemi-cube row at three resolutions (whole, and stage by
 //! stage), and a parallel set of rows on one and two threads, in a room of
-//! about 1000 patches.
+//! about 1000 patches; rows in the 10 000-triangle atrium with and without
+//! face clusters and level of detail.
 
 mod bench_scene;
 mod cpu_clock;
@@ -127,12 +128,42 @@ fn form_factor_rows(c: &mut Criterion) {
     group.finish();
 }
 
+/// `compute_rows` for 128 leaves spread through the 10 000-triangle atrium at
+/// its default patch size and hemi-cube resolution (64): with face clusters
+/// and level of detail (the defaults), without level of detail, and without
+/// either (every surface its own patch). Throughput is in rows; two threads.
+fn atrium_rows(c: &mut Criterion) {
+    let scene = radiosity::scenes::atrium(10_000).expect("the atrium builds");
+    let patch_size = radiosity::Settings::default().patch_size_for(&scene);
+    let mut group = c.benchmark_group("atrium_rows");
+    for (name, clusters, lod) in [
+        ("clusters_lod", true, true),
+        ("clusters", true, false),
+        ("plain", false, false),
+    ] {
+        let mesh = radiosity::mesh::Mesh::build(&scene, patch_size, usize::MAX, clusters)
+            .expect("the atrium meshes");
+        let sources = radiosity::formfactor::Sources::from_mesh(&mesh);
+        let keys = spread_leaves(&mesh, 128);
+        let settings = radiosity::formfactor::RowSettings {
+            level_of_detail: lod,
+            ..row_settings(64)
+        };
+        group.throughput(Throughput::Elements(keys.len() as u64));
+        let label = format!("{name}/{}_patches", mesh.patches().len());
+        group.bench_function(label, |b| {
+            b.iter(|| black_box(compute_rows(&mesh, &sources, &keys, &settings, &|_| {})));
+        });
+    }
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .sample_size(20)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(4));
-    targets = hemicube_row, hemicube_stages, form_factor_rows
+    targets = hemicube_row, hemicube_stages, form_factor_rows, atrium_rows
 }
 criterion_main!(benches);
