@@ -31,6 +31,7 @@ mod document;
 mod export;
 mod export_geometry;
 mod import;
+mod lights;
 mod limits;
 mod materials;
 mod meshes;

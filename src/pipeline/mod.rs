@@ -19,7 +19,7 @@ pub use progress::{Progress, Stage};
 pub use settings::Settings;
 pub use shooting::Preview;
 pub use skips::Skips;
-pub use stats::MemoryFigures;
+pub use stats::{DirectFigures, MemoryFigures};
 pub use stats::{
     EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
 };
