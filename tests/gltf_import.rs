@@ -104,7 +104,7 @@ fn one_primitive(p: &[[f32; 3]], indices: Option<&[u32]>, mode: u32) -> Value {
         prim["indices"] = json!(bin.indices(ix));
     }
     bin.document(json!({
-        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
         "meshes": [{"name": "m", "primitives": [prim]}],
         "nodes": [{"name": "n", "mesh": 0}],
         "scenes": [{"nodes": [0]}],
@@ -635,7 +635,7 @@ fn materials_give_reflectance_emission_and_double_sided_surfaces() {
     doc["materials"] = json!([{
         "name": "lamp",
         "doubleSided": true,
-        "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 0.3]},
+        "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.25, 0.5, 0.75, 0.3]},
         "emissiveFactor": [1.0, 0.5, 0.25],
         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}}
     }]);
@@ -1012,9 +1012,9 @@ fn three_materials() -> Value {
     }
     bin.document(json!({
         "materials": [
-            {"name": "white", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]}},
-            {"name": "bright", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.2, 0.5, 1.0]}},
-            {"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}
+            {"name": "white", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [1.0, 1.0, 1.0, 1.0]}},
+            {"name": "bright", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 1.2, 0.5, 1.0]}},
+            {"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}
         ],
         "meshes": [{"name": "m", "primitives": prims}],
         "nodes": [{"name": "n", "mesh": 0}],
@@ -1069,7 +1069,7 @@ fn reflectance_above_the_maximum_is_clamped_with_one_warning_naming_each_materia
 }
 
 #[test]
-fn a_file_without_light_is_refused_before_any_form_factor_naming_punctual_lights() {
+fn a_file_without_light_is_refused_before_any_form_factor_and_punctual_lights_count() {
     let doc = one_primitive(&UNIT_TRIANGLE, None, 4);
     let scene = load(&write("dark.gltf", &doc)).unwrap();
     assert!(!scene.has_light());
@@ -1079,31 +1079,48 @@ fn a_file_without_light_is_refused_before_any_form_factor_naming_punctual_lights
         e.to_string().contains("no light") && e.to_string().contains("'dark'"),
         "{e}"
     );
-    assert!(!e.to_string().contains("KHR_lights_punctual"), "{e}");
+    assert!(
+        e.to_string().contains("add a KHR_lights_punctual light"),
+        "{e}"
+    );
     // The solve refuses it at its checks, before any form factor: no solution.
     let e = radiosity::solve(&scene, &Default::default(), &|_| {
         panic!("no progress may be reported for a scene without light")
     })
     .unwrap_err();
     assert!(matches!(e, Error::NoLight(_)), "{e}");
-    // With punctual lights in the file, they are named as the usual cause.
+    // Lights the file defines but no node places give no light, and are
+    // named in a warning; a placed light of intensity 0 is named by the
+    // refusal.
     let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
     doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
     doc["extensions"] = json!({"KHR_lights_punctual": {"lights": [
         {"type": "point", "intensity": 10.0},
-        {"type": "spot", "intensity": 5.0, "spot": {}}
+        {"name": "dim", "type": "spot", "intensity": 0.0, "spot": {}}
     ]}});
     let scene = load(&write("punctual.gltf", &doc)).unwrap();
-    assert_eq!(scene.import_stats.punctual_lights, 2);
+    assert_eq!(scene.import_stats.punctual_lights, 0);
     assert!(scene
         .warnings
         .iter()
-        .any(|w| w.contains("KHR_lights_punctual")));
+        .any(|w| w.contains("2 KHR_lights_punctual lights are placed by no node")));
+    assert!(scene.check_light().is_err());
+    doc["nodes"] = json!([
+        {"name": "n", "mesh": 0},
+        {"name": "lamp", "extensions": {"KHR_lights_punctual": {"light": 1}}}
+    ]);
+    doc["scenes"] = json!([{"nodes": [0, 1]}]);
+    let scene = load(&write("punctual_dim.gltf", &doc)).unwrap();
+    assert_eq!(scene.import_stats.punctual_lights, 1);
     let e = scene.check_light().unwrap_err().to_string();
     assert!(
-        e.contains("2 KHR_lights_punctual lights are the usual cause"),
+        e.contains("'dim'") && e.contains("intensity or colour 0"),
         "{e}"
     );
+    // A placed light of some intensity is light.
+    doc["nodes"][1]["extensions"]["KHR_lights_punctual"]["light"] = json!(0);
+    let scene = load(&write("punctual_lit.gltf", &doc)).unwrap();
+    scene.check_light().unwrap();
     // An emissive material is light.
     let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
     doc["materials"][0]["emissiveFactor"] = json!([1.0, 1.0, 1.0]);
@@ -1183,8 +1200,8 @@ fn wall_and_decal_doc() -> Value {
     let ix = bin.indices(&[0, 1, 2, 0, 2, 3]);
     bin.document(json!({
         "materials": [
-            {"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}},
-            {"name": "sticker", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.1, 0.1, 1.0]}}
+            {"name": "paint", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}},
+            {"name": "sticker", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.1, 0.1, 1.0]}}
         ],
         "meshes": [
             {"primitives": [{"attributes": {"POSITION": wall}, "indices": ix, "material": 0}]},
@@ -1248,7 +1265,7 @@ fn quantized_document(
             "uri": format!("data:application/octet-stream;base64,{}", base64::encode(data))}],
         "bufferViews": [{"buffer": 0, "byteLength": data.len(), "byteStride": stride}],
         "accessors": [{"bufferView": 0, "componentType": component, "count": 4, "type": "VEC3"}],
-        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
         "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "mode": 6, "material": 0}]}],
         "nodes": [{"name": "n", "mesh": 0, "scale": [scale, scale, scale]}],
         "scenes": [{"nodes": [0]}],
@@ -1392,7 +1409,7 @@ fn meshopt_compressed_quantized_views_decode_into_their_placeholder_buffer() {
             {"bufferView": 0, "componentType": 5123, "count": 4, "type": "VEC3"},
             {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
         ],
-        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
         "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
         "nodes": [{"name": "n", "mesh": 0, "scale": [1e-3, 1e-3, 1e-3]}],
         "scenes": [{"nodes": [0]}],
