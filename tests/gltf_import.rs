@@ -1440,3 +1440,123 @@ fn a_draco_file_is_refused_with_how_to_decompress_it() {
         "{e}"
     );
 }
+
+// ---------------------------------------------------------------------------
+// KHR_lights_punctual and metallic materials (issue 16)
+
+/// A triangle on node 0 and lights placed by nodes 1 (a point, translated
+/// under a parent) and 2 (a spot turned to shine along +X), with light 2 of
+/// type `third_type` placed by node 3.
+fn with_lights(required: bool, third_type: &str) -> Value {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    if required {
+        doc["extensionsRequired"] = json!(["KHR_lights_punctual"]);
+    }
+    doc["extensions"] = json!({"KHR_lights_punctual": {"lights": [
+        {"name": "bulb", "type": "point", "intensity": 20.0, "color": [1.0, 0.5, 0.25], "range": 3.0},
+        {"name": "beam", "type": "spot", "intensity": 5.0,
+         "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.4}},
+        {"name": "odd", "type": third_type, "intensity": 1.0}
+    ]}});
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    doc["nodes"] = json!([
+        {"name": "n", "mesh": 0},
+        {"name": "parent", "translation": [1.0, 0.0, 0.0], "children": [4]},
+        // -90 degrees about Y takes the node's -Z axis to +X.
+        {"name": "spot node", "translation": [0.0, 2.0, 0.0], "rotation": [0.0, -s, 0.0, s],
+         "extensions": {"KHR_lights_punctual": {"light": 1}}},
+        {"name": "odd node", "extensions": {"KHR_lights_punctual": {"light": 2}}},
+        {"name": "lamp", "translation": [0.0, 3.0, 0.0],
+         "extensions": {"KHR_lights_punctual": {"light": 0}}}
+    ]);
+    doc["scenes"] = json!([{"nodes": [0, 1, 2, 3]}]);
+    doc
+}
+
+#[test]
+fn punctual_lights_are_placed_by_their_nodes_required_or_not() {
+    use radiosity::scene::LightKind;
+    for required in [false, true] {
+        let doc = with_lights(required, "point");
+        let scene = load(&write("lights.gltf", &doc)).unwrap();
+        assert_eq!(scene.lights.len(), 3);
+        assert_eq!(scene.import_stats.punctual_lights, 3);
+        // Nodes are walked depth first from the roots: 0, 1, 4, 2, 3.
+        let bulb = &scene.lights[0];
+        assert!(
+            bulb.name.contains("bulb") && bulb.name.contains("lamp"),
+            "{}",
+            bulb.name
+        );
+        assert_eq!(bulb.kind, LightKind::Point);
+        assert_close(bulb.position, v(1.0, 3.0, 0.0), 1e-12);
+        assert_eq!(bulb.colour.0, [1.0, 0.5, 0.25]);
+        assert_eq!(bulb.intensity, 20.0);
+        assert_eq!(bulb.range, Some(3.0));
+        let beam = &scene.lights[1];
+        assert_eq!(
+            beam.kind,
+            LightKind::Spot {
+                inner_cone: 0.2,
+                outer_cone: 0.4
+            }
+        );
+        assert_close(beam.position, v(0.0, 2.0, 0.0), 1e-12);
+        assert_close(beam.direction, v(1.0, 0.0, 0.0), 1e-12);
+        assert!(scene.has_light());
+        scene.check_light().unwrap();
+    }
+}
+
+#[test]
+fn an_unknown_light_type_is_left_out_with_a_warning_naming_it() {
+    let doc = with_lights(false, "area");
+    let scene = load(&write("odd_light.gltf", &doc)).unwrap();
+    assert_eq!(scene.lights.len(), 2);
+    let warning = scene
+        .warnings
+        .iter()
+        .find(|w| w.contains("does not know"))
+        .expect("a warning");
+    assert!(
+        warning.contains("'odd'") && warning.contains("'odd node'") && warning.contains("'area'"),
+        "{warning}"
+    );
+    // Values out of range are errors naming the light and its node.
+    let mut doc = with_lights(false, "point");
+    doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["innerConeAngle"] = json!(0.5);
+    error_naming(
+        &write("bad_cone.gltf", &doc),
+        "light 1 ('beam') of node 2 ('spot node')",
+    );
+    let mut doc = with_lights(false, "point");
+    doc["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = json!(-1.0);
+    error_naming(&write("bad_intensity.gltf", &doc), "light 0 ('bulb')");
+}
+
+#[test]
+fn metallic_materials_keep_their_diffuse_part_with_one_warning_each() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["materials"] = json!([{"name": "brass", "pbrMetallicRoughness": {
+        "baseColorFactor": [0.8, 0.6, 0.2, 1.0], "metallicFactor": 0.75}}]);
+    let scene = load(&write("brass.gltf", &doc)).unwrap();
+    let r = scene.materials[0].reflectance.0;
+    for (got, want) in r.iter().zip([0.2, 0.15, 0.05]) {
+        assert!((got - want).abs() < 1e-12, "{r:?}");
+    }
+    let warnings: Vec<_> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("'brass'") && w.contains("specular"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{:?}", scene.warnings);
+    // No metallicFactor: glTF's default, a metal, said so.
+    doc["materials"][0]["pbrMetallicRoughness"]
+        .as_object_mut()
+        .unwrap()
+        .remove("metallicFactor");
+    let scene = load(&write("metal.gltf", &doc)).unwrap();
+    assert_eq!(scene.materials[0].reflectance.0, [0.0; 3]);
+    assert!(scene.warnings.iter().any(|w| w.contains("default is 1")));
+}

@@ -1,5 +1,5 @@
 //! glTF materials as diffuse materials: reflectance from `baseColorFactor` (times the
-//! mean of its texture, if it decodes), emitted radiance from `emissiveFactor` times
+//! mean of its texture, if it decodes) times `1 - metallic`, emitted radiance from `emissiveFactor` times
 //! `KHR_materials_emissive_strength` (times the mean of the emissive texture, if it
 //! decodes). Textures are decoded only for materials that some triangle primitive
 //! of the imported scene uses.
@@ -82,7 +82,7 @@ pub(super) fn convert_materials(
         if in_use {
             let metallic = metallic(path, doc, i, &name, images, warnings)?;
             if metallic > 0.0 {
-                reflectance = reflectance * (1.0 - metallic.min(1.0));
+                reflectance *= 1.0 - metallic.min(1.0);
             }
         }
         let factor = numbers::<3>(&doc.raw, &format!("{base}/emissiveFactor")).unwrap_or([0.0; 3]);
@@ -141,7 +141,7 @@ fn metallic(
     let mut metallic = factor.unwrap_or(1.0);
     let mut from = match factor {
         Some(_) => format!("metallicFactor {metallic}"),
-        None => "no metallicFactor (glTF's default is 1, a metal)".to_string(),
+        None => "no metallicFactor: glTF's default is 1, a metal".to_string(),
     };
     let texture = doc.root.materials[i]
         .pbr_metallic_roughness
@@ -169,7 +169,7 @@ fn metallic(
     }
     if metallic > 0.0 {
         warnings.push(format!(
-            "material '{name}': metallic {:.3} ({from}): its reflectance is the base colour \
+            "material '{name}': metallic {:.3} ({from}); its reflectance is the base colour \
              times {:.3}, the diffuse part; its specular (metal) reflection is not simulated",
             metallic.min(1.0),
             1.0 - metallic.min(1.0)

@@ -232,7 +232,7 @@ impl Light {
         }
         let span = self.position - point;
         let d2 = span.length_squared();
-        if !(d2 > 0.0) {
+        if d2 <= 0.0 || d2.is_nan() {
             return None;
         }
         let d = d2.sqrt();
