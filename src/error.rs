@@ -40,6 +40,15 @@ pub enum Error {
     /// non-convex polygon handed to the builder, a scene with no surfaces.
     #[error("geometry: {0}")]
     Geometry(String),
+    /// A punctual light with a value outside its range (negative or
+    /// non-finite intensity, colour or range, cone angles out of order).
+    #[error("light {light}: {message}")]
+    Light {
+        /// The light, as the file or the builder names it (and its node).
+        light: String,
+        /// What is wrong.
+        message: String,
+    },
     /// Nothing in the scene gives light, so the solution would be black.
     #[error("{0}")]
     NoLight(String),

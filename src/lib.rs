@@ -26,8 +26,10 @@
 //! # }
 //! ```
 //!
-//! Units are the scene's: glTF metres, emitted radiance in the materials'
-//! units; radiosity (exitance) is pi times radiance. The library never prints:
+//! Units: glTF metres and one photometric system: emitted radiance in cd/m²
+//! (exitance is pi times it), point and spot light intensity in candela,
+//! directional light illuminance in lux; radiosity comes out in lm/m² (see
+//! [`scene::Light`]). The library never prints:
 //! progress comes through the callback, figures through
 //! [`Solution::stats`]. The `cli` feature (on by default) adds the
 //! command-line tool and the time-versus-error reports ([`report`]); build with
@@ -43,7 +45,10 @@
 //!   repaired at load, each repair a warning in [`scene::Scene::warnings`]:
 //!   overlapping coplanar surfaces resolved, reflectance clamped, compressed
 //!   geometry decoded ([`gltf_io::LoadOptions`]); a scene without light is
-//!   refused. [`scene::Camera::framing`] gives a default view.
+//!   refused. Punctual lights ([`scene::Light`], `KHR_lights_punctual`) are
+//!   sources outside the mesh: their direct light, with exact shadows, enters
+//!   the solvers as a first reflection ([`solve::DirectLight`]).
+//!   [`scene::Camera::framing`] gives a default view.
 //! - [`mesh`]: surfaces cut into patches, each the root of an element quadtree
 //!   ([`mesh::Mesh`]): geometry and topology only.
 //! - [`formfactor`]: element-to-patch rows from hemi-cubes with an item buffer,

@@ -104,7 +104,7 @@ fn one_primitive(p: &[[f32; 3]], indices: Option<&[u32]>, mode: u32) -> Value {
         prim["indices"] = json!(bin.indices(ix));
     }
     bin.document(json!({
-        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
         "meshes": [{"name": "m", "primitives": [prim]}],
         "nodes": [{"name": "n", "mesh": 0}],
         "scenes": [{"nodes": [0]}],
@@ -635,7 +635,7 @@ fn materials_give_reflectance_emission_and_double_sided_surfaces() {
     doc["materials"] = json!([{
         "name": "lamp",
         "doubleSided": true,
-        "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.5, 0.75, 0.3]},
+        "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.25, 0.5, 0.75, 0.3]},
         "emissiveFactor": [1.0, 0.5, 0.25],
         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}}
     }]);
@@ -1012,9 +1012,9 @@ fn three_materials() -> Value {
     }
     bin.document(json!({
         "materials": [
-            {"name": "white", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]}},
-            {"name": "bright", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 1.2, 0.5, 1.0]}},
-            {"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}
+            {"name": "white", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [1.0, 1.0, 1.0, 1.0]}},
+            {"name": "bright", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 1.2, 0.5, 1.0]}},
+            {"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}
         ],
         "meshes": [{"name": "m", "primitives": prims}],
         "nodes": [{"name": "n", "mesh": 0}],
@@ -1069,7 +1069,7 @@ fn reflectance_above_the_maximum_is_clamped_with_one_warning_naming_each_materia
 }
 
 #[test]
-fn a_file_without_light_is_refused_before_any_form_factor_naming_punctual_lights() {
+fn a_file_without_light_is_refused_before_any_form_factor_and_punctual_lights_count() {
     let doc = one_primitive(&UNIT_TRIANGLE, None, 4);
     let scene = load(&write("dark.gltf", &doc)).unwrap();
     assert!(!scene.has_light());
@@ -1079,31 +1079,48 @@ fn a_file_without_light_is_refused_before_any_form_factor_naming_punctual_lights
         e.to_string().contains("no light") && e.to_string().contains("'dark'"),
         "{e}"
     );
-    assert!(!e.to_string().contains("KHR_lights_punctual"), "{e}");
+    assert!(
+        e.to_string().contains("add a KHR_lights_punctual light"),
+        "{e}"
+    );
     // The solve refuses it at its checks, before any form factor: no solution.
     let e = radiosity::solve(&scene, &Default::default(), &|_| {
         panic!("no progress may be reported for a scene without light")
     })
     .unwrap_err();
     assert!(matches!(e, Error::NoLight(_)), "{e}");
-    // With punctual lights in the file, they are named as the usual cause.
+    // Lights the file defines but no node places give no light, and are
+    // named in a warning; a placed light of intensity 0 is named by the
+    // refusal.
     let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
     doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
     doc["extensions"] = json!({"KHR_lights_punctual": {"lights": [
         {"type": "point", "intensity": 10.0},
-        {"type": "spot", "intensity": 5.0, "spot": {}}
+        {"name": "dim", "type": "spot", "intensity": 0.0, "spot": {}}
     ]}});
     let scene = load(&write("punctual.gltf", &doc)).unwrap();
-    assert_eq!(scene.import_stats.punctual_lights, 2);
+    assert_eq!(scene.import_stats.punctual_lights, 0);
     assert!(scene
         .warnings
         .iter()
-        .any(|w| w.contains("KHR_lights_punctual")));
+        .any(|w| w.contains("2 KHR_lights_punctual lights are placed by no node")));
+    assert!(scene.check_light().is_err());
+    doc["nodes"] = json!([
+        {"name": "n", "mesh": 0},
+        {"name": "lamp", "extensions": {"KHR_lights_punctual": {"light": 1}}}
+    ]);
+    doc["scenes"] = json!([{"nodes": [0, 1]}]);
+    let scene = load(&write("punctual_dim.gltf", &doc)).unwrap();
+    assert_eq!(scene.import_stats.punctual_lights, 1);
     let e = scene.check_light().unwrap_err().to_string();
     assert!(
-        e.contains("2 KHR_lights_punctual lights are the usual cause"),
+        e.contains("'dim'") && e.contains("intensity or colour 0"),
         "{e}"
     );
+    // A placed light of some intensity is light.
+    doc["nodes"][1]["extensions"]["KHR_lights_punctual"]["light"] = json!(0);
+    let scene = load(&write("punctual_lit.gltf", &doc)).unwrap();
+    scene.check_light().unwrap();
     // An emissive material is light.
     let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
     doc["materials"][0]["emissiveFactor"] = json!([1.0, 1.0, 1.0]);
@@ -1183,8 +1200,8 @@ fn wall_and_decal_doc() -> Value {
     let ix = bin.indices(&[0, 1, 2, 0, 2, 3]);
     bin.document(json!({
         "materials": [
-            {"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}},
-            {"name": "sticker", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.1, 0.1, 1.0]}}
+            {"name": "paint", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}},
+            {"name": "sticker", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.1, 0.1, 1.0]}}
         ],
         "meshes": [
             {"primitives": [{"attributes": {"POSITION": wall}, "indices": ix, "material": 0}]},
@@ -1248,7 +1265,7 @@ fn quantized_document(
             "uri": format!("data:application/octet-stream;base64,{}", base64::encode(data))}],
         "bufferViews": [{"buffer": 0, "byteLength": data.len(), "byteStride": stride}],
         "accessors": [{"bufferView": 0, "componentType": component, "count": 4, "type": "VEC3"}],
-        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
         "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "mode": 6, "material": 0}]}],
         "nodes": [{"name": "n", "mesh": 0, "scale": [scale, scale, scale]}],
         "scenes": [{"nodes": [0]}],
@@ -1392,7 +1409,7 @@ fn meshopt_compressed_quantized_views_decode_into_their_placeholder_buffer() {
             {"bufferView": 0, "componentType": 5123, "count": 4, "type": "VEC3"},
             {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
         ],
-        "materials": [{"name": "grey", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
+        "materials": [{"name": "grey", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0]}}],
         "meshes": [{"name": "m", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
         "nodes": [{"name": "n", "mesh": 0, "scale": [1e-3, 1e-3, 1e-3]}],
         "scenes": [{"nodes": [0]}],
@@ -1422,4 +1439,124 @@ fn a_draco_file_is_refused_with_how_to_decompress_it() {
             .contains("gltf-transform/cli copy in.glb out.glb"),
         "{e}"
     );
+}
+
+// ---------------------------------------------------------------------------
+// KHR_lights_punctual and metallic materials (issue 16)
+
+/// A triangle on node 0 and lights placed by nodes 1 (a point, translated
+/// under a parent) and 2 (a spot turned to shine along +X), with light 2 of
+/// type `third_type` placed by node 3.
+fn with_lights(required: bool, third_type: &str) -> Value {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    if required {
+        doc["extensionsRequired"] = json!(["KHR_lights_punctual"]);
+    }
+    doc["extensions"] = json!({"KHR_lights_punctual": {"lights": [
+        {"name": "bulb", "type": "point", "intensity": 20.0, "color": [1.0, 0.5, 0.25], "range": 3.0},
+        {"name": "beam", "type": "spot", "intensity": 5.0,
+         "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.4}},
+        {"name": "odd", "type": third_type, "intensity": 1.0}
+    ]}});
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    doc["nodes"] = json!([
+        {"name": "n", "mesh": 0},
+        {"name": "parent", "translation": [1.0, 0.0, 0.0], "children": [4]},
+        // -90 degrees about Y takes the node's -Z axis to +X.
+        {"name": "spot node", "translation": [0.0, 2.0, 0.0], "rotation": [0.0, -s, 0.0, s],
+         "extensions": {"KHR_lights_punctual": {"light": 1}}},
+        {"name": "odd node", "extensions": {"KHR_lights_punctual": {"light": 2}}},
+        {"name": "lamp", "translation": [0.0, 3.0, 0.0],
+         "extensions": {"KHR_lights_punctual": {"light": 0}}}
+    ]);
+    doc["scenes"] = json!([{"nodes": [0, 1, 2, 3]}]);
+    doc
+}
+
+#[test]
+fn punctual_lights_are_placed_by_their_nodes_required_or_not() {
+    use radiosity::scene::LightKind;
+    for required in [false, true] {
+        let doc = with_lights(required, "point");
+        let scene = load(&write("lights.gltf", &doc)).unwrap();
+        assert_eq!(scene.lights.len(), 3);
+        assert_eq!(scene.import_stats.punctual_lights, 3);
+        // Nodes are walked depth first from the roots: 0, 1, 4, 2, 3.
+        let bulb = &scene.lights[0];
+        assert!(
+            bulb.name.contains("bulb") && bulb.name.contains("lamp"),
+            "{}",
+            bulb.name
+        );
+        assert_eq!(bulb.kind, LightKind::Point);
+        assert_close(bulb.position, v(1.0, 3.0, 0.0), 1e-12);
+        assert_eq!(bulb.colour.0, [1.0, 0.5, 0.25]);
+        assert_eq!(bulb.intensity, 20.0);
+        assert_eq!(bulb.range, Some(3.0));
+        let beam = &scene.lights[1];
+        assert_eq!(
+            beam.kind,
+            LightKind::Spot {
+                inner_cone: 0.2,
+                outer_cone: 0.4
+            }
+        );
+        assert_close(beam.position, v(0.0, 2.0, 0.0), 1e-12);
+        assert_close(beam.direction, v(1.0, 0.0, 0.0), 1e-12);
+        assert!(scene.has_light());
+        scene.check_light().unwrap();
+    }
+}
+
+#[test]
+fn an_unknown_light_type_is_left_out_with_a_warning_naming_it() {
+    let doc = with_lights(false, "area");
+    let scene = load(&write("odd_light.gltf", &doc)).unwrap();
+    assert_eq!(scene.lights.len(), 2);
+    let warning = scene
+        .warnings
+        .iter()
+        .find(|w| w.contains("does not know"))
+        .expect("a warning");
+    assert!(
+        warning.contains("'odd'") && warning.contains("'odd node'") && warning.contains("'area'"),
+        "{warning}"
+    );
+    // Values out of range are errors naming the light and its node.
+    let mut doc = with_lights(false, "point");
+    doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["innerConeAngle"] = json!(0.5);
+    error_naming(
+        &write("bad_cone.gltf", &doc),
+        "light 1 ('beam') of node 2 ('spot node')",
+    );
+    let mut doc = with_lights(false, "point");
+    doc["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = json!(-1.0);
+    error_naming(&write("bad_intensity.gltf", &doc), "light 0 ('bulb')");
+}
+
+#[test]
+fn metallic_materials_keep_their_diffuse_part_with_one_warning_each() {
+    let mut doc = one_primitive(&UNIT_TRIANGLE, None, 4);
+    doc["materials"] = json!([{"name": "brass", "pbrMetallicRoughness": {
+        "baseColorFactor": [0.8, 0.6, 0.2, 1.0], "metallicFactor": 0.75}}]);
+    let scene = load(&write("brass.gltf", &doc)).unwrap();
+    let r = scene.materials[0].reflectance.0;
+    for (got, want) in r.iter().zip([0.2, 0.15, 0.05]) {
+        assert!((got - want).abs() < 1e-12, "{r:?}");
+    }
+    let warnings: Vec<_> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("'brass'") && w.contains("specular"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{:?}", scene.warnings);
+    // No metallicFactor: glTF's default, a metal, said so.
+    doc["materials"][0]["pbrMetallicRoughness"]
+        .as_object_mut()
+        .unwrap()
+        .remove("metallicFactor");
+    let scene = load(&write("metal.gltf", &doc)).unwrap();
+    assert_eq!(scene.materials[0].reflectance.0, [0.0; 3]);
+    assert!(scene.warnings.iter().any(|w| w.contains("default is 1")));
 }

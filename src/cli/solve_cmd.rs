@@ -169,6 +169,10 @@ struct Report<'a> {
     passes: &'a [radiosity::pipeline::PassStats],
     #[serde(skip_serializing_if = "Option::is_none")]
     progressive: Option<&'a ProgressiveStats>,
+    /// The punctual lights' direct light: lights, shadow rays, seconds and
+    /// the power delivered (absent without punctual lights).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    direct: Option<&'a radiosity::pipeline::DirectFigures>,
     memory: Memory<'a>,
     final_max_difference: f64,
     /// `null`: the full solution; N: emitted light and N reflections.
@@ -324,6 +328,7 @@ fn run_in_pool(
         source_passes: &s.source_passes,
         passes: &s.passes,
         progressive: s.progressive.as_ref(),
+        direct: s.direct.as_ref(),
         memory: Memory {
             mesh: &s.memory,
             peak_resident_bytes: super::peak_memory::peak_resident_bytes(),

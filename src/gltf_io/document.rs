@@ -148,7 +148,11 @@ fn validate(path: &Path, root: &Root, warnings: &mut Vec<String>) -> Result<()> 
 
 /// Extensions a file may require that the importer handles (gltf-json does
 /// not know them and reports them as unsupported).
-const HANDLED_EXTENSIONS: [&str; 2] = ["KHR_mesh_quantization", super::meshopt::EXTENSION];
+const HANDLED_EXTENSIONS: [&str; 3] = [
+    "KHR_mesh_quantization",
+    super::meshopt::EXTENSION,
+    super::lights::EXTENSION,
+];
 
 /// The extension named at `extensionsRequired[i]`, when `where_` is that
 /// path (gltf-json spells it `extensionsRequired[i] = "NAME"`).

@@ -4,6 +4,7 @@ use super::buffers::load_buffers;
 use super::cameras::import_camera;
 use super::container::{read_limited, split};
 use super::document::parse;
+use super::lights::placed_lights;
 use super::limits::ImportLimits;
 use super::materials::{convert_materials, used_materials};
 use super::meshes::{add_mesh_instance, Decoded, Source};
@@ -50,14 +51,17 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
 ///   named; coplanar surfaces that overlap are resolved or refused as
 ///   [`LoadOptions::overlaps`] says
 ///   ([`Scene::resolve_overlaps`](crate::scene::Scene::resolve_overlaps)).
-///   `KHR_lights_punctual` lights are counted and ignored with a warning.
+/// - `KHR_lights_punctual` lights become [`Scene::lights`], one per node that
+///   places one, at the node's world transform (spots and suns shine down its
+///   -Z axis); unknown light types are left out with a warning naming them.
 ///
 /// # Errors
 ///
 /// [`Error::Io`] if the file cannot be read; [`Error::Gltf`] naming the file and
 /// the mesh, material, accessor or buffer for anything malformed (not glTF at all,
 /// invalid JSON, a buffer URI outside the file's folder, data out of range,
-/// non-finite positions, negative or non-finite material values); [`Error::Limit`]
+/// non-finite positions, negative or non-finite material values, lights out of
+/// range); [`Error::Limit`]
 /// when the file exceeds `limits`; [`Error::Geometry`] naming the file when it
 /// has no usable surface, or naming the overlapping objects with
 /// [`Overlaps::Error`](crate::scene::Overlaps::Error); [`Error::Setting`] for
@@ -85,7 +89,8 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
         options,
         &mut scene.warnings,
     )?;
-    scene.import_stats.punctual_lights = punctual_lights(&doc, &mut scene.warnings);
+    scene.lights = placed_lights(path, &doc, &placed, &mut scene.warnings)?;
+    scene.import_stats.punctual_lights = scene.lights.len();
     scene.import_stats.images_decoded = images.decodes;
     scene.import_stats.texture_pixels = images.pixels;
     let source = Source {
@@ -130,21 +135,4 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
             other => other,
         })?;
     Ok(scene)
-}
-
-/// The number of `KHR_lights_punctual` lights the file defines, with a
-/// warning that they are ignored.
-fn punctual_lights(doc: &super::document::Document, warnings: &mut Vec<String>) -> usize {
-    let n = doc
-        .raw
-        .pointer("/extensions/KHR_lights_punctual/lights")
-        .and_then(|l| l.as_array())
-        .map_or(0, Vec::len);
-    if n > 0 {
-        warnings.push(format!(
-            "{n} KHR_lights_punctual lights ignored: this tool cannot use punctual lights yet \
-             (only emissive surfaces give light)"
-        ));
-    }
-    n
 }

@@ -1,5 +1,5 @@
 //! glTF materials as diffuse materials: reflectance from `baseColorFactor` (times the
-//! mean of its texture, if it decodes), emitted radiance from `emissiveFactor` times
+//! mean of its texture, if it decodes) times `1 - metallic`, emitted radiance from `emissiveFactor` times
 //! `KHR_materials_emissive_strength` (times the mean of the emissive texture, if it
 //! decodes). Textures are decoded only for materials that some triangle primitive
 //! of the imported scene uses.
@@ -79,6 +79,12 @@ pub(super) fn convert_materials(
                 Err(Unusable::Refused(e)) => return Err(e),
             }
         }
+        if in_use {
+            let metallic = metallic(path, doc, i, &name, images, warnings)?;
+            if metallic > 0.0 {
+                reflectance *= 1.0 - metallic.min(1.0);
+            }
+        }
         let factor = numbers::<3>(&doc.raw, &format!("{base}/emissiveFactor")).unwrap_or([0.0; 3]);
         let strength = number(
             &doc.raw,
@@ -115,6 +121,61 @@ pub(super) fn convert_materials(
         ));
     }
     Ok(out)
+}
+
+/// The metallic part of material `i` (`metallicFactor`, glTF's default 1,
+/// times the mean of the blue channel of its `metallicRoughnessTexture` when
+/// it decodes), with one warning for a material that has any: a metal's
+/// reflection is specular, which radiosity does not simulate, so only the
+/// diffuse part `1 - metallic` of the base colour is kept.
+fn metallic(
+    path: &Path,
+    doc: &Document,
+    i: usize,
+    name: &str,
+    images: &mut Images,
+    warnings: &mut Vec<String>,
+) -> Result<f64> {
+    let pointer = format!("/materials/{i}/pbrMetallicRoughness/metallicFactor");
+    let factor = number(&doc.raw, &pointer);
+    let mut metallic = factor.unwrap_or(1.0);
+    let mut from = match factor {
+        Some(_) => format!("metallicFactor {metallic}"),
+        None => "no metallicFactor: glTF's default is 1, a metal".to_string(),
+    };
+    let texture = doc.root.materials[i]
+        .pbr_metallic_roughness
+        .metallic_roughness_texture
+        .as_ref();
+    if let (Some(info), true) = (texture, metallic > 0.0) {
+        match images.for_texture(info.index.value()) {
+            Ok(image) => {
+                let mean = image.mean().0[2];
+                metallic *= mean;
+                from.push_str(&format!(" times the metallic texture's mean {mean:.3}"));
+            }
+            Err(Unusable::Ignored(why)) => warnings.push(format!(
+                "material '{name}': metallic-roughness texture ignored ({why}); using \
+                 metallicFactor alone"
+            )),
+            Err(Unusable::Refused(e)) => return Err(e),
+        }
+    }
+    if !metallic.is_finite() || metallic < 0.0 {
+        return Err(gltf_error(
+            path,
+            format!("material '{name}' (index {i}): metallic {metallic} is not from 0 to 1"),
+        ));
+    }
+    if metallic > 0.0 {
+        warnings.push(format!(
+            "material '{name}': metallic {:.3} ({from}); its reflectance is the base colour \
+             times {:.3}, the diffuse part; its specular (metal) reflection is not simulated",
+            metallic.min(1.0),
+            1.0 - metallic.min(1.0)
+        ));
+    }
+    Ok(metallic)
 }
 
 /// Reflectance bands for a message, to three decimals.

@@ -18,7 +18,9 @@
 //! Conventions (see the project's design notes): glTF units are metres; the emitted
 //! radiance is `emissiveFactor * KHR_materials_emissive_strength`, the emitted exitance
 //! is pi times that; the reflectance is `baseColorFactor` (times the mean colour of a
-//! base colour texture, when it can be decoded).
+//! base colour texture, when it can be decoded) times `1 - metallic`;
+//! `KHR_lights_punctual` lights are placed by their nodes (see
+//! [`Light`](crate::scene::Light) for the units).
 
 mod accessors;
 mod bake;
@@ -31,6 +33,7 @@ mod document;
 mod export;
 mod export_geometry;
 mod import;
+mod lights;
 mod limits;
 mod materials;
 mod meshes;

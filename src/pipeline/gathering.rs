@@ -36,7 +36,7 @@ impl Gathering {
     pub(super) fn start(ws: &mut Workspace<'_>) -> Result<Self> {
         let leaves = ws.mesh.leaves();
         ws.compute_rows(&leaves, 0);
-        let system = PatchSystem::from_mesh(&ws.mesh, &ws.form_factors);
+        let system = assemble(ws);
         let mut gathering = Gathering {
             b: system.emission.clone(),
             system,
@@ -89,6 +89,9 @@ impl Solver for Gathering {
         let before = ws.tally.hemicube.hemicubes;
         ws.compute_rows(fresh, pass);
         self.system.refresh(&ws.mesh, &ws.form_factors, &touched);
+        if let Some(direct) = &ws.direct {
+            direct.add_to_system(&mut self.system, &ws.mesh, &ws.form_factors);
+        }
         ws.stats.skips.patch_rows_refreshed += touched.len();
         self.solve_and_gather(ws)?;
         Ok((ws.tally.hemicube.hemicubes - before) as usize)
@@ -124,6 +127,7 @@ impl Gathering {
             grey: plan.grey,
             rowless: plan.rowless_patch.as_deref(),
             balance: Some(&self.system.balance),
+            direct: ws.direct.as_ref(),
         };
         let (report, totals) = if let Some(n) = ws.settings.bounces {
             gather_bounces(
@@ -212,11 +216,12 @@ impl Gathering {
         // derived where they can be, and the rest rendered anew.
         ws.sources = Sources::from_mesh(&ws.mesh);
         ws.plan.patches_changed(&ws.mesh);
+        ws.update_direct();
         let t = Instant::now();
         let anew = update_rows_for_splits(&ws.mesh, &mut ws.form_factors, &ws.sources, &splits);
         ws.stats.seconds.form_factors += t.elapsed().as_secs_f64();
         ws.compute_rows(&anew, 0);
-        self.system = PatchSystem::from_mesh(&ws.mesh, &ws.form_factors);
+        self.system = assemble(ws);
         // The four patches of a split one start from their roots'
         // radiosities, the others from the last solve.
         self.b.resize(ws.mesh.patches.len(), Rgb::ZERO);
@@ -236,4 +241,14 @@ impl Gathering {
         });
         Ok(true)
     }
+}
+
+/// The patch system of the leaves' rows, with the reflected light of the
+/// punctual lights, if any, as emission.
+fn assemble(ws: &Workspace<'_>) -> PatchSystem {
+    let mut system = PatchSystem::from_mesh(&ws.mesh, &ws.form_factors);
+    if let Some(direct) = &ws.direct {
+        direct.add_to_system(&mut system, &ws.mesh, &ws.form_factors);
+    }
+    system
 }

@@ -20,7 +20,7 @@ pub use progress::{Progress, Stage};
 pub use settings::{Settings, DEFAULT_MAX_MEMORY};
 pub use shooting::Preview;
 pub use skips::Skips;
-pub use stats::MemoryFigures;
+pub use stats::{DirectFigures, MemoryFigures};
 pub use stats::{
     EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
 };

@@ -168,6 +168,20 @@ pub struct SourcePassStats {
     pub seconds: f64,
 }
 
+/// What the punctual lights' direct light cost and brought.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DirectFigures {
+    /// Punctual lights in the scene.
+    pub lights: usize,
+    /// Shadow rays cast from the leaves' quadrature points to the lights.
+    pub shadow_rays: u64,
+    /// Seconds spent on the direct light (included in no other stage).
+    pub seconds: f64,
+    /// Power the lights deliver to the final leaves, `sum A Hd` per band
+    /// (lm, in the scene's units; see [`crate::scene::Light`]).
+    pub incident_power: crate::math::Rgb,
+}
+
 /// Everything the library measured.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct SolveStats {
@@ -204,6 +218,9 @@ pub struct SolveStats {
     /// (`None` for Gauss-Seidel).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub progressive: Option<crate::solve::progressive::ProgressiveStats>,
+    /// Punctual lights' direct light (`None` when the scene has none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub direct: Option<DirectFigures>,
     /// Heap bytes held by the final mesh and patch system (an estimate).
     pub memory: MemoryFigures,
     /// What the caller should know about the result: a closed scene whose

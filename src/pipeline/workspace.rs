@@ -11,7 +11,7 @@ use crate::formfactor::{compute_rows_with, FormFactors, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, Marks};
 use crate::scene::{check_coplanar_overlaps, Scene};
-use crate::solve::{GatherTotals, PatchSystem, Radiosity, SolveReport};
+use crate::solve::{DirectLight, GatherTotals, PatchSystem, Radiosity, SolveReport};
 use std::time::Instant;
 
 /// The shared state of one solve.
@@ -35,6 +35,9 @@ pub(crate) struct Workspace<'a> {
     pub stats: SolveStats,
     /// Smallest element area refinement may make.
     pub min_area: f64,
+    /// The punctual lights' irradiance per leaf (`None` when the scene has
+    /// no punctual light: nothing of the solve changes then).
+    pub direct: Option<DirectLight>,
 }
 
 impl<'a> Workspace<'a> {
@@ -54,6 +57,7 @@ impl<'a> Workspace<'a> {
                 scene.name
             )));
         }
+        scene.check_lights()?;
         scene.check_light()?;
         scene.check_reflectance()?;
         check_coplanar_overlaps(scene)?;
@@ -89,10 +93,12 @@ impl<'a> Workspace<'a> {
         memory::check_fits(&mesh, settings.max_memory)?;
         let mut stats = SolveStats::default();
         stats.seconds.mesh = t.elapsed().as_secs_f64();
-        let plan = RowPlan::new(&mesh, settings);
+        let mut plan = RowPlan::new(&mesh, settings);
+        // Coloured punctual lights make coloured reflected light.
+        plan.grey &= scene.lights.iter().all(|l| l.colour.is_grey());
         let sources = Sources::from_mesh(&mesh);
         let radiosity = Radiosity::emitted(&mesh);
-        Ok(Workspace {
+        let mut ws = Workspace {
             scene,
             settings,
             progress,
@@ -105,7 +111,41 @@ impl<'a> Workspace<'a> {
             tally: RowTally::default(),
             stats,
             min_area,
-        })
+            direct: (!scene.lights.is_empty()).then(DirectLight::default),
+        };
+        ws.update_direct();
+        Ok(ws)
+    }
+
+    /// Computes the punctual lights' irradiance on the leaves that have none
+    /// yet: every leaf at first, then the new ones of each split (their
+    /// solver then sets their radiosity with it). The first time, before any
+    /// solve, its reflection is the leaves' and patches' first reflected
+    /// light.
+    pub(super) fn update_direct(&mut self) {
+        let Some(direct) = &mut self.direct else {
+            return;
+        };
+        let t = Instant::now();
+        direct.update(&self.mesh, &self.sources, &self.scene.lights);
+        if self.stats.direct.is_none() {
+            for k in self.mesh.leaves() {
+                self.radiosity
+                    .add_to_element(k, direct.exitance(&self.mesh, k));
+            }
+            let patches: Vec<_> = self
+                .radiosity
+                .patches()
+                .iter()
+                .zip(direct.patch_area_means(&self.mesh))
+                .map(|(b, d)| *b + d)
+                .collect();
+            self.radiosity.set_patches(&patches);
+        }
+        let figures = self.stats.direct.get_or_insert_with(Default::default);
+        figures.lights = self.scene.lights.len();
+        figures.shadow_rays = direct.shadow_rays;
+        figures.seconds += t.elapsed().as_secs_f64();
     }
 
     /// True while refinement passes may still run: the mesh adapts, and the
@@ -207,6 +247,7 @@ impl<'a> Workspace<'a> {
             fresh.extend(children);
         }
         fresh.retain(|k| self.mesh.elements[*k].is_leaf());
+        self.update_direct();
         fresh
     }
 
@@ -250,6 +291,9 @@ impl<'a> Workspace<'a> {
             self.tally.hemicube,
         );
         self.stats.skips.add_rows(&self.tally);
+        if let (Some(direct), Some(figures)) = (&self.direct, &mut self.stats.direct) {
+            figures.incident_power = direct.incident_power(&self.mesh);
+        }
         self.stats.seconds.total = self.started.elapsed().as_secs_f64();
     }
 }

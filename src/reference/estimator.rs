@@ -18,6 +18,7 @@ use super::rng::Rng;
 use super::sampling::cosine_direction;
 use super::{Reference, ReferenceSettings};
 use crate::math::Rgb;
+use crate::scene::Target;
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -40,6 +41,7 @@ impl Reference {
             let normal = self.geometry[surface as usize].normal;
             let origin = position + normal * self.tolerances.offset;
             value += weight * self.light_sample_term(surface, origin, normal, rng);
+            value += weight * self.punctual_term(surface, origin, normal);
             let dir = cosine_direction(normal, rng.uniform(), rng.uniform());
             let Some(hit) = self.accel.nearest(&self.geometry, origin, dir, surface) else {
                 break;
@@ -94,6 +96,37 @@ impl Reference {
         let light_density = emitters.area_density(light.surface) * distance_squared / cos_there;
         let cosine_density = cos_here / PI;
         self.emission[light.surface as usize] * (cos_here / PI / (light_density + cosine_density))
+    }
+
+    /// The irradiance at `origin` (on `surface`, facing `normal`) from every
+    /// punctual light a shadow ray reaches: a delta light has a single
+    /// direction, so this next-event estimate is exact, and no cosine
+    /// direction can hit the light (nothing to combine with MIS).
+    fn punctual_term(&self, surface: u32, origin: DVec3, normal: DVec3) -> Rgb {
+        let mut sum = Rgb::ZERO;
+        for light in &self.lights {
+            let Some(incident) = light.incident(origin) else {
+                continue;
+            };
+            let h = incident.on(normal);
+            if h == Rgb::ZERO {
+                continue;
+            }
+            let target = match incident.target {
+                Target::Point(p) => p,
+                // Twice the scene's diameter from a point on it is outside.
+                Target::Infinity(dir) => {
+                    origin + dir * (2.0 * self.diameter.max(f64::MIN_POSITIVE))
+                }
+            };
+            if self
+                .accel
+                .unblocked(&self.geometry, origin, target, surface)
+            {
+                sum += h;
+            }
+        }
+        sum
     }
 
     /// The cosine-direction half of the direct term, for a ray along `dir` from a

@@ -42,7 +42,11 @@
 //! Surfaces are single-sided Lambertian polygons: only the front (the side the
 //! normal points to) emits and reflects; a ray that meets a back face sees
 //! radiance 0 and ends (the back blocks light). Emission is exitance E, so an
-//! emitter's radiance is E/pi. Each path combines light sampling and
+//! emitter's radiance is E/pi. Punctual lights (point, spot, directional) are
+//! delta lights: at every path vertex each one adds its irradiance
+//! (`I cos / d^2` with the light's falloffs, `E cos` for a sun) where a
+//! shadow ray reaches it (next-event estimation, exact for a delta light).
+//! Each path combines light sampling and
 //! cosine-weighted direction sampling by multiple importance sampling, and
 //! Russian roulette after [`ReferenceSettings::min_bounces_before_roulette`]
 //! reflections; both are unbiased. The only bias is the hard cap
@@ -125,6 +129,8 @@ pub struct Reference {
     emission: Vec<Rgb>,
     objects: Vec<ObjectArea>,
     emitters: Option<Emitters>,
+    /// Punctual lights, sampled by next-event estimation.
+    lights: Vec<crate::scene::Light>,
     accel: Accel,
     tolerances: Tolerances,
     diameter: f64,
@@ -155,6 +161,7 @@ impl Reference {
         for m in &scene.materials {
             m.validate()?;
         }
+        scene.check_lights()?;
         let mut reflectance = Vec::with_capacity(geometry.len());
         let mut emission = Vec::with_capacity(geometry.len());
         let mut members = vec![Vec::new(); scene.objects.len()];
@@ -204,6 +211,7 @@ impl Reference {
             emission,
             objects,
             emitters,
+            lights: scene.lights.clone(),
             accel,
             tolerances,
             diameter,

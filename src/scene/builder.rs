@@ -1,6 +1,6 @@
 //! Building scenes in code: materials, objects, quads, triangles and boxes.
 
-use super::{Camera, Material, Object, Overlaps, Scene, Surface};
+use super::{Camera, Light, Material, Object, Overlaps, Scene, Surface};
 use crate::error::{Error, Result};
 use crate::math::{planarity_error, Rgb};
 use glam::DVec3;
@@ -171,6 +171,14 @@ impl SceneBuilder {
     /// Adds a warning to the scene.
     pub fn warn(&mut self, message: String) {
         self.scene.warnings.push(message);
+    }
+
+    /// Adds a punctual light (see [`Light`]), checked first: an error names
+    /// the light and the value out of range.
+    pub fn light(&mut self, light: Light) -> Result<()> {
+        light.validate()?;
+        self.scene.lights.push(light);
+        Ok(())
     }
 
     /// Finishes the scene, resolving or refusing coplanar overlaps as

@@ -1,10 +1,14 @@
 //! The scene: planar surfaces with diffuse materials, grouped into named objects,
-//! and the cameras to view them. Built by the glTF importer or by [`SceneBuilder`].
+//! punctual lights, and the cameras to view them. Built by the glTF importer or
+//! by [`SceneBuilder`]. Units: see [`Light`]'s module notes (emitted radiance in
+//! cd/m², point and spot intensity in candela, directional illuminance in lux;
+//! radiosity in lm/m²).
 
 mod builder;
 mod camera;
 mod facing;
 mod framing;
+mod light;
 mod material;
 mod overlaps;
 mod surface;
@@ -12,6 +16,7 @@ mod surface;
 pub use builder::SceneBuilder;
 pub use camera::Camera;
 pub(crate) use facing::facing_warnings;
+pub use light::{range_window, spot_falloff, Incident, Light, LightKind, Target};
 pub use material::Material;
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::{Overlaps, COPLANAR_GAP};
@@ -41,8 +46,8 @@ pub struct ImportStats {
     pub skipped_primitives: usize,
     /// Images read and decoded for textures (each at most once per file).
     pub images_decoded: usize,
-    /// `KHR_lights_punctual` lights defined in the file, which the solver
-    /// cannot use yet (they are ignored with a warning).
+    /// `KHR_lights_punctual` lights placed by the scene's nodes (one per
+    /// node that refers to a light), as in [`Scene::lights`].
     pub punctual_lights: usize,
     /// Pixels of those images, counted against
     /// [`ImportLimits::max_texture_pixels`](crate::gltf_io::ImportLimits::max_texture_pixels).
@@ -68,6 +73,9 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// The planar surfaces. A double-sided glTF surface appears twice, back to back.
     pub surfaces: Vec<Surface>,
+    /// Punctual lights (point, spot, directional): sources outside the mesh,
+    /// whose direct light enters the solution as its first reflection.
+    pub lights: Vec<Light>,
     /// Cameras found in the file (the first is the default view).
     pub cameras: Vec<Camera>,
     /// Things the importer skipped or changed, in words a user can act on.
@@ -110,40 +118,55 @@ impl Scene {
     }
 
     /// True when something in the scene gives light: a surface whose
-    /// material emits. (Sources outside the mesh, such as punctual lights,
-    /// will count here too once the solver takes them.)
+    /// material emits, or a punctual light of some intensity.
     #[must_use]
     pub fn has_light(&self) -> bool {
-        self.surfaces
-            .iter()
-            .any(|s| self.material_of(s).is_emitter())
+        self.lights.iter().any(Light::shines)
+            || self
+                .surfaces
+                .iter()
+                .any(|s| self.material_of(s).is_emitter())
     }
 
     /// Fails with [`Error::NoLight`](crate::Error::NoLight) when nothing in
     /// the scene gives light: the solution would be black everywhere. The
-    /// message says when the file's punctual lights, which the solver cannot
-    /// use yet, are the likely cause.
+    /// message says what would give light, and names punctual lights of no
+    /// intensity when the scene has some.
     pub fn check_light(&self) -> crate::Result<()> {
         if self.has_light() {
             return Ok(());
         }
         let mut message = format!(
             "scene '{}' has no light: no material emits (every emissiveFactor is zero or \
-             absent), so every surface would be black",
+             absent) and no punctual light shines, so every surface would be black",
             self.name
         );
-        match self.import_stats.punctual_lights {
+        match self.lights.len() {
             0 => message.push_str(
                 "; give a lamp, window or sky surface a material with an emissiveFactor \
-                 (and KHR_materials_emissive_strength for more than 1)",
+                 (and KHR_materials_emissive_strength for more than 1), or add a \
+                 KHR_lights_punctual light",
             ),
-            n => message.push_str(&format!(
-                "; the file's {n} KHR_lights_punctual lights are the usual cause: this tool \
-                 cannot use punctual lights yet. Model each lamp as a small surface with an \
-                 emissive material instead"
-            )),
+            _ => {
+                let names: Vec<String> = self
+                    .lights
+                    .iter()
+                    .take(5)
+                    .map(|l| format!("'{}'", l.name))
+                    .collect();
+                message.push_str(&format!(
+                    "; its {} punctual lights ({}) have intensity or colour 0",
+                    self.lights.len(),
+                    names.join(", ")
+                ));
+            }
         }
         Err(crate::Error::NoLight(message))
+    }
+
+    /// Checks every punctual light ([`Light::validate`]).
+    pub fn check_lights(&self) -> crate::Result<()> {
+        self.lights.iter().try_for_each(Light::validate)
     }
 
     /// Fails with [`Error::Material`](crate::Error::Material) naming the first

@@ -34,7 +34,15 @@ pub const MAX_BOUNCES: u32 = 1000;
 /// `0` gives the emission alone.
 #[must_use]
 pub(crate) fn bounced_radiosity(system: &PatchSystem, reflections: u32) -> Vec<Rgb> {
-    let mut b = system.emission.clone();
+    bounced_from(system, system.emission.clone(), reflections)
+}
+
+/// `B^(reflections)` from `B^(0) = first`. With punctual lights the system's
+/// emission holds their reflected light, `E + D`, which is one reflection
+/// in: `B^(0)` is then the surfaces' emission alone, and every later
+/// generation `E + D + rho F B`.
+fn bounced_from(system: &PatchSystem, first: Vec<Rgb>, reflections: u32) -> Vec<Rgb> {
+    let mut b = first;
     let mut next = b.clone();
     for _ in 0..reflections {
         for (i, out) in next.iter_mut().enumerate() {
@@ -62,7 +70,14 @@ pub(crate) fn gather_bounces(
     options: &GatherOptions<'_>,
 ) -> Result<(SolveReport, GatherTotals)> {
     check_bounces(bounces)?;
-    let before = bounced_radiosity(system, bounces - 1);
+    let before = if options.direct.is_some() {
+        let emitted = (0..mesh.patches.len() as u32)
+            .map(|p| mesh.patch_emission(p))
+            .collect();
+        bounced_from(system, emitted, bounces - 1)
+    } else {
+        bounced_radiosity(system, bounces - 1)
+    };
     let totals = gather_with(mesh, form_factors, radiosity, &before, options);
     for (i, out) in b.iter_mut().enumerate() {
         *out = system.update(i, &before);

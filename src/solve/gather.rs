@@ -63,6 +63,10 @@ pub(crate) struct GatherOptions<'a> {
     /// made for the mesh's current leaves); `None` gathers the rows as they
     /// are.
     pub balance: Option<&'a Balance>,
+    /// The irradiance of punctual lights on each leaf (`None`: the scene has
+    /// none); its reflection joins the leaf's emission, and the power it
+    /// brings joins the emitted and absorbed totals.
+    pub direct: Option<&'a super::DirectLight>,
 }
 
 /// [`gather`] with `options`.
@@ -130,11 +134,17 @@ pub(crate) fn gather_with(
                     .map(|&(_, f)| f64::from(f))
                     .sum::<f64>()
             });
+            // Light from punctual lights arrives as irradiance like the
+            // rest, so it is reflected like the rest.
+            let h_all = match options.direct {
+                None => h,
+                Some(direct) => h + direct.irradiance(k),
+            };
             let radiosity = if options.grey {
                 let (rho, emission) = (lattice.reflectance.0[0], lattice.emission.0[0]);
-                Rgb::splat(emission + rho * h.0[0])
+                Rgb::splat(emission + rho * h_all.0[0])
             } else {
-                lattice.emission + lattice.reflectance * h
+                lattice.emission + lattice.reflectance * h_all
             };
             (radiosity, h, to_rowless)
         })
@@ -146,6 +156,12 @@ pub(crate) fn gather_with(
         let lattice = &mesh.surfaces[e.surface as usize];
         totals.emitted += lattice.emission * e.area;
         totals.absorbed += (Rgb::ONE - lattice.reflectance) * *h * e.area;
+        if let Some(direct) = options.direct {
+            // What punctual lights deliver counts as emitted into the scene.
+            let hd = direct.irradiance(k);
+            totals.emitted += hd * e.area;
+            totals.absorbed += (Rgb::ONE - lattice.reflectance) * hd * e.area;
+        }
         if let Some(view) = form_factors.view(k) {
             totals.add_hidden(e.area, *value, view);
         }

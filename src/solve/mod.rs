@@ -10,6 +10,7 @@
 
 pub mod balance;
 pub(crate) mod bounces;
+mod direct;
 mod gather;
 mod gauss_seidel;
 pub mod progressive;
@@ -18,6 +19,7 @@ mod system;
 
 pub(crate) use bounces::gather_bounces;
 pub use bounces::MAX_BOUNCES;
+pub use direct::DirectLight;
 pub use gather::{gather, GatherTotals};
 pub(crate) use gather::{gather_with, GatherOptions};
 pub use gauss_seidel::{gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION};

@@ -141,7 +141,7 @@ fn forty_materials_sharing_one_image_decode_it_once() {
         textures.push(json!({"source": 0}));
         materials.push(json!({
             "name": format!("m{i}"),
-            "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "baseColorTexture": {"index": i}},
+            "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "baseColorTexture": {"index": i}},
             "emissiveTexture": {"index": i}
         }));
     }
@@ -207,7 +207,7 @@ fn the_texture_pixel_limit_counts_every_image_of_a_file() {
         let mesh = f.mesh(&format!("tile{i}"), &triangle(i as f32, 0.0), Some(i), 4);
         f.node(json!({"mesh": mesh}));
     }
-    let textured = |t: usize| json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": t}}});
+    let textured = |t: usize| json!({"pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {"index": t}}});
     let mut doc = f.document(json!([textured(0), textured(1)]));
     doc["images"] = json!([{"uri": "a.png", "name": "first"}, {"uri": "b.png", "name": "second"}]);
     doc["textures"] = json!([{"source": 0}, {"source": 1}]);
@@ -390,7 +390,7 @@ fn a_fifo_named_by_an_image_uri_is_refused_without_blocking() {
     let mesh = f.mesh("m", &triangle(0.0, 0.0), Some(0), 4);
     f.node(json!({"mesh": mesh}));
     let mut doc = f.document(json!([
-        {"name": "textured", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}
+        {"name": "textured", "pbrMetallicRoughness": {"metallicFactor": 0.0, "baseColorTexture": {"index": 0}}}
     ]));
     doc["images"] = json!([{"uri": "fifo.png"}]);
     doc["textures"] = json!([{"source": 0}]);

@@ -17,6 +17,7 @@ mod hostile_cli;
 mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
+mod lights;
 mod memory_limits;
 mod messy_cli;
 mod penumbra;

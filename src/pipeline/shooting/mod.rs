@@ -123,6 +123,7 @@ impl Solver for Shooting<'_> {
         pass: usize,
     ) -> Result<usize> {
         self.receivers = Receivers::new(&ws.mesh);
+        self.state.set_direct(ws.direct.as_ref());
         let (change, new_hemicubes) = if self.rows_tried {
             ws.compute_rows(fresh, pass);
             self.cache.refine(&ws.mesh, &ws.form_factors, fresh);
@@ -196,6 +197,10 @@ impl Solver for Shooting<'_> {
             let e = &mesh.elements[k];
             emitted += mesh.surfaces[e.surface as usize].emission * e.area;
         }
+        if let Some(direct) = &ws.direct {
+            // What punctual lights deliver counts as emitted into the scene.
+            emitted += direct.incident_power(mesh);
+        }
         let (mut back_faces, mut escaped) = (Rgb::ZERO, Rgb::ZERO);
         for k in mesh.leaves() {
             if let Some(view) = ws.form_factors.view(k) {
@@ -257,7 +262,7 @@ impl<'p> Shooting<'p> {
         let settings = ws.settings;
         let ps = &settings.progressive;
         refuse_unbounded(ws)?;
-        let mut state = ShootingState::new(&ws.mesh);
+        let mut state = ShootingState::new(&ws.mesh, ws.direct.as_ref());
         let receivers = Receivers::new(&ws.mesh);
         state.expose(&ws.mesh, &ws.radiosity, &receivers);
         let fraction = state.unshot_fraction();

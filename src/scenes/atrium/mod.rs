@@ -11,8 +11,9 @@
 //! roof's opening is lit by an emitting sky quad [`shell::SKY_HEIGHT`] metres
 //! above it, facing down, with radiance [`palette::SKY_RADIANCE`] (relative
 //! units: W m^-2 sr^-1 if you like; only ratios matter to the images, whose
-//! exposure is automatic). A sun will come from [`SUN_DIRECTION`] once the
-//! solver has punctual lights.
+//! exposure is automatic). A sun can be added from [`SUN_DIRECTION`] as a
+//! directional [`Light`](crate::scene::Light); the built-in scene has none,
+//! so that its figures stay comparable with earlier runs.
 //!
 //! Units are metres; +y is up, x runs along the court (west to east), z
 //! across it (south to north), and the floor is at y = 0.
@@ -72,8 +73,8 @@ pub const MAX_TRIANGLES: usize = 1_000_000;
 /// today, and every larger size much longer).
 pub const DEFAULT_TRIANGLES: usize = 10_000;
 
-/// Unit vector from the scene towards the sun, for when the solver has
-/// punctual lights (none is used yet): 60 degrees above the horizon, from
+/// Unit vector from the scene towards the sun, for a directional light
+/// (the built-in scene has none): 60 degrees above the horizon, from
 /// 30 degrees south of the court's east-west axis, so that it reaches down
 /// into the court and lights the north arcade and part of the floor.
 pub const SUN_DIRECTION: DVec3 =

@@ -103,6 +103,10 @@ pub(crate) fn settle(
         let w = receivers.areas[i] * receivers.exposure[i];
         let h = state.irradiance.get(k).copied().unwrap_or(Rgb::ZERO);
         emitted += surface.emission * w;
+        if let Some(hd) = state.direct_irradiance(k) {
+            // Reflected punctual light is emission to the exchange.
+            emitted += surface.reflectance * hd * w;
+        }
         taken += (Rgb::splat(e.area) - surface.reflectance * w) * h;
     }
     let mut scale = Rgb::ONE;

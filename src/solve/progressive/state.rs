@@ -5,7 +5,7 @@ use super::Receivers;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::solve::balance::Balance;
-use crate::solve::Radiosity;
+use crate::solve::{DirectLight, Radiosity};
 use slotmap::SecondaryMap;
 
 /// What one shot delivered.
@@ -51,6 +51,9 @@ pub(crate) struct ShootingState {
     balance: Option<Scales>,
     areas: Vec<f64>,
     emitted_power: f64,
+    /// The punctual lights' irradiance per leaf, which joins what the leaf
+    /// receives from shots (`None`: the scene has no punctual light).
+    direct: Option<DirectLight>,
 }
 
 /// The balance of the gathering rows, keyed for shots.
@@ -65,12 +68,18 @@ struct Scales {
 impl ShootingState {
     /// The state before the first shot: every patch holds its emission, unshot,
     /// and every leaf counts with its whole area until [`ShootingState::expose`]
-    /// says otherwise.
+    /// says otherwise. With punctual lights (`direct`), their reflected light
+    /// is emission too: the first shots send it on.
     #[must_use]
-    pub(crate) fn new(mesh: &Mesh) -> Self {
-        let emission: Vec<Rgb> = (0..mesh.patches.len() as u32)
+    pub(crate) fn new(mesh: &Mesh, direct: Option<&DirectLight>) -> Self {
+        let mut emission: Vec<Rgb> = (0..mesh.patches.len() as u32)
             .map(|p| mesh.patch_emission(p))
             .collect();
+        if let Some(direct) = direct {
+            for (e, d) in emission.iter_mut().zip(direct.patch_area_means(mesh)) {
+                *e += d;
+            }
+        }
         let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
         let emitted_power = emission
             .iter()
@@ -93,7 +102,20 @@ impl ShootingState {
             irradiance,
             areas,
             emitted_power,
+            direct: direct.cloned(),
         }
+    }
+
+    /// Takes the punctual lights' irradiance of the current leaves (after a
+    /// refinement pass made new ones).
+    pub(crate) fn set_direct(&mut self, direct: Option<&DirectLight>) {
+        self.direct = direct.cloned();
+    }
+
+    /// The punctual lights' irradiance on leaf `key`.
+    #[must_use]
+    pub(crate) fn direct_irradiance(&self, key: ElementKey) -> Option<Rgb> {
+        self.direct.as_ref().map(|d| d.irradiance(key))
     }
 
     /// Takes each leaf's exposure from `receivers` (after every change of the
@@ -303,7 +325,7 @@ impl ShootingState {
     }
 
     /// Sets a new leaf's irradiance outright (after a gather) and its radiosity
-    /// to `E + rho H`. The patch totals are brought up to date by
+    /// to `E + rho (H + Hd)`, `Hd` the punctual lights' irradiance. The patch totals are brought up to date by
     /// [`ShootingState::resum_patch`].
     pub(crate) fn set_leaf(
         &mut self,
@@ -314,7 +336,11 @@ impl ShootingState {
     ) {
         let e = &mesh.elements[key];
         let s = &mesh.surfaces[e.surface as usize];
-        radiosity.set_element(key, s.emission + s.reflectance * h);
+        let h_all = match self.direct_irradiance(key) {
+            None => h,
+            Some(hd) => h + hd,
+        };
+        radiosity.set_element(key, s.emission + s.reflectance * h_all);
         self.irradiance.insert(key, h);
     }
 
@@ -344,14 +370,18 @@ impl ShootingState {
         change
     }
 
-    /// Absorbed power per band, `sum A (1 - rho) H` over the leaves.
+    /// Absorbed power per band, `sum A (1 - rho) H` over the leaves (`H`
+    /// with the punctual lights' irradiance).
     #[must_use]
     pub(crate) fn absorbed_power(&self, mesh: &Mesh) -> Rgb {
         let mut sum = Rgb::ZERO;
         for k in mesh.leaves() {
             let e = &mesh.elements[k];
             let rho = mesh.surfaces[e.surface as usize].reflectance;
-            let h = self.irradiance.get(k).copied().unwrap_or(Rgb::ZERO);
+            let mut h = self.irradiance.get(k).copied().unwrap_or(Rgb::ZERO);
+            if let Some(hd) = self.direct_irradiance(k) {
+                h += hd;
+            }
             sum += (Rgb::ONE - rho) * h * e.area;
         }
         sum
