@@ -1,7 +1,6 @@
 //! The hybrid form-factor policy: the item buffer decides what is seen, and
 //! Lambert's exact formula how much.
 
-use super::faces::Face;
 use super::{Hemicube, BACK_FACE, NOTHING};
 use crate::formfactor::{point_to_polygon, EmitterVisibility, PixelHint, Row, Sources};
 use glam::DVec3;
@@ -173,33 +172,11 @@ impl Hemicube {
         local: DVec3,
         world: DVec3,
     ) -> bool {
-        let a = local.abs();
-        let (fi, face) = if local.z >= a.x.max(a.y) {
-            (0, Face::Top)
-        } else if a.x >= a.y {
-            if local.x > 0.0 {
-                (1, Face::PosX)
-            } else {
-                (2, Face::NegX)
-            }
-        } else if local.y > 0.0 {
-            (3, Face::PosY)
-        } else {
-            (4, Face::NegY)
+        let Some((fi, face, px)) = self.pixel_of(local) else {
+            return false; // behind the eye or below the horizon
         };
         let p = face.map(local);
-        if p.z <= 0.0 || (!face.is_top() && p.y < 0.0) {
-            return false; // behind the eye or below the horizon
-        }
         let n = self.table.n;
-        let half = n as f64 * 0.5;
-        let (height, y_offset) = if face.is_top() {
-            (n, 1.0)
-        } else {
-            (n / 2, 0.0)
-        };
-        let pixel = |s: f64, limit: usize| ((s * half).max(0.0) as usize).min(limit - 1);
-        let px = pixel(p.y / p.z + y_offset, height) * n + pixel(p.x / p.z + 1.0, n);
         let winner = self.items[fi][px];
         if winner == NOTHING {
             return true;
