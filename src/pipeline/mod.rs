@@ -8,6 +8,7 @@
 
 mod gathering;
 mod progress;
+mod scale;
 mod settings;
 mod shooting;
 mod skips;

@@ -3,6 +3,7 @@
 //! callback. Set-up, checks, meshing, rows and refinement steps live here
 //! once, for both solvers.
 
+use super::scale::EmissionScale;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
 use crate::error::{Error, Result};
@@ -10,6 +11,7 @@ use crate::formfactor::{compute_rows_with, FormFactors, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, Marks};
 use crate::scene::{check_coplanar_overlaps, Scene};
+use crate::solution::Solution;
 use crate::solve::{GatherTotals, PatchSystem, Radiosity, SolveReport};
 use std::time::Instant;
 
@@ -34,6 +36,8 @@ pub(crate) struct Workspace<'a> {
     pub stats: SolveStats,
     /// Smallest element area refinement may make.
     pub min_area: f64,
+    /// The power of two the mesh's emissions were scaled by for the solve.
+    pub scale: EmissionScale,
 }
 
 impl<'a> Workspace<'a> {
@@ -55,6 +59,7 @@ impl<'a> Workspace<'a> {
         }
         scene.check_light()?;
         scene.check_reflectance()?;
+        scene.check_materials()?;
         check_coplanar_overlaps(scene)?;
         let started = Instant::now();
         let refine = &settings.refine;
@@ -74,6 +79,7 @@ impl<'a> Workspace<'a> {
             refine.max_elements,
         )?;
         let mut stats = SolveStats::default();
+        let scale = EmissionScale::normalise(&mut mesh, scene, &mut stats.warnings);
         stats.seconds.mesh = t.elapsed().as_secs_f64();
         let plan = RowPlan::new(&mesh, settings);
         let sources = Sources::from_mesh(&mesh);
@@ -91,6 +97,7 @@ impl<'a> Workspace<'a> {
             tally: RowTally::default(),
             stats,
             min_area,
+            scale,
         })
     }
 
@@ -213,6 +220,26 @@ impl<'a> Workspace<'a> {
         );
         self.stats.skips.add_rows(&self.tally);
         self.stats.seconds.total = self.started.elapsed().as_secs_f64();
+    }
+}
+
+impl Workspace<'_> {
+    /// The solution of the finished solve with the final patch `system`, at
+    /// the scene's own emission scale.
+    pub(super) fn into_solution(mut self, mut system: PatchSystem) -> Solution {
+        self.scale.restore_solution(
+            &mut self.mesh,
+            &mut self.radiosity,
+            &mut system,
+            &mut self.stats,
+        );
+        Solution {
+            mesh: self.mesh,
+            form_factors: self.form_factors,
+            radiosity: self.radiosity,
+            system,
+            stats: self.stats,
+        }
     }
 }
 

@@ -176,6 +176,22 @@ impl Scene {
         }
     }
 
+    /// Runs [`Material::validate`] on every material a surface uses: a
+    /// material built field by field skips the check
+    /// [`Material::from_radiance`] makes (a subnormal emission, for one,
+    /// would stall the solve).
+    pub(crate) fn check_materials(&self) -> crate::Result<()> {
+        let mut used = vec![false; self.materials.len()];
+        for s in &self.surfaces {
+            used[s.material as usize] = true;
+        }
+        self.materials
+            .iter()
+            .zip(used)
+            .filter(|(_, used)| *used)
+            .try_for_each(|(m, _)| m.validate())
+    }
+
     /// Treats every surface as two-sided: each surface of a material not yet
     /// double-sided gets a copy facing the other way, right after it (as the
     /// importer adds `doubleSided` surfaces), and every material is marked

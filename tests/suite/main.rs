@@ -14,6 +14,7 @@ mod energy;
 mod ferren;
 mod hemicube;
 mod hostile_cli;
+mod hostile_emission;
 mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
