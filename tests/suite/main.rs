@@ -15,6 +15,7 @@ mod ferren;
 mod hemicube;
 mod hostile_cli;
 mod hostile_emission;
+mod hostile_emitters;
 mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
