@@ -65,7 +65,7 @@ impl<'a> Workspace<'a> {
         let refine = &settings.refine;
         let min_area = refine
             .min_element_area
-            .unwrap_or_else(|| (scene.diameter() * 1e-3).powi(2));
+            .unwrap_or_else(|| (scene.extent() * 1e-3).powi(2));
         let t = Instant::now();
         let mut mesh = Mesh::build(
             scene,

@@ -3,6 +3,7 @@
 
 mod builder;
 mod camera;
+mod extent;
 mod facing;
 mod framing;
 mod material;
@@ -11,6 +12,7 @@ mod surface;
 
 pub use builder::SceneBuilder;
 pub use camera::Camera;
+pub use extent::Outliers;
 pub(crate) use facing::facing_warnings;
 pub use material::Material;
 pub(crate) use overlaps::check_coplanar_overlaps;
@@ -91,8 +93,9 @@ impl Scene {
         (lo, hi)
     }
 
-    /// The length of the bounding box diagonal: the scene's size, from which
-    /// default patch sizes and tolerances are derived.
+    /// The length of the bounding box diagonal of every surface. Defaults
+    /// that scale with the scene follow [`Scene::extent`] instead, which
+    /// leaves out far outliers.
     #[must_use]
     pub fn diameter(&self) -> f64 {
         let (lo, hi) = self.bounds();

@@ -16,6 +16,7 @@ mod hemicube;
 mod hostile_cli;
 mod hostile_emission;
 mod hostile_emitters;
+mod hostile_extent;
 mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
