@@ -54,7 +54,7 @@ impl Scene {
             objects: Vec::new(),
         };
         let total: f64 = self.surfaces.iter().map(|s| s.area).sum();
-        if !(total > 0.0) || self.surfaces.len() < 2 {
+        if !total.is_finite() || total <= 0.0 || self.surfaces.len() < 2 {
             return whole;
         }
         let centres: Vec<DVec3> = self
@@ -99,7 +99,7 @@ impl Scene {
             return whole;
         }
         let extent = (bhi - blo).length();
-        if !(extent > 0.0) || diameter <= FAR * extent {
+        if !extent.is_finite() || extent <= 0.0 || diameter <= FAR * extent {
             return whole;
         }
         let (far_lo, far_hi) = (blo - DVec3::splat(extent), bhi + DVec3::splat(extent));
