@@ -226,7 +226,7 @@ pub struct SolveSettingsArgs {
     /// at the default patch size).
     #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "element"])]
     pub emitter_samples: String,
-    /// Largest patch edge in metres [default: the scene's diagonal / 10].
+    /// Largest patch edge in metres [default: the scene's size / 10: its diagonal, less far outliers holding little area].
     #[arg(long = "patch-size")]
     pub patch_size: Option<f64>,
     /// Gauss-Seidel stops when its error bound is below this fraction of the
@@ -261,7 +261,7 @@ pub struct SolveSettingsArgs {
     /// Depth every patch is split to before the first solve.
     #[arg(long = "initial-depth", default_value_t = 1)]
     pub initial_depth: u8,
-    /// Smallest element area in square metres [default: (diagonal / 1000)^2].
+    /// Smallest element area in square metres [default: (the scene's size / 1000)^2].
     #[arg(long = "min-element-area")]
     pub min_element_area: Option<f64>,
     /// Most leaf elements [default: as many as --max-memory holds].

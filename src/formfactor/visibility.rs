@@ -249,6 +249,38 @@ impl Occluders {
         })
     }
 
+    /// True when the emitter polygon `q` faces `eye` and no polygon (other
+    /// than on `own_surface`) crosses the ray from `eye` to its centre.
+    ///
+    /// The ray stops short of the emitter's plane by twice the boxes' padding:
+    /// polygons in that plane (a fan's other blades, the rest of a
+    /// tessellated lamp) cannot hide it, but their boxes all reach the ray's
+    /// end and would each be tested; nothing thinner than the padding fits in
+    /// the gap left.
+    pub(crate) fn emitter_centre_visible(
+        &self,
+        sources: &Sources,
+        eye: DVec3,
+        own_surface: u32,
+        q: u32,
+    ) -> bool {
+        let poly = &sources.polygons[q as usize];
+        let corners = poly.corners();
+        let centre = corners.iter().copied().sum::<DVec3>() / corners.len() as f64;
+        // An emitter shines from its front only.
+        let height = poly.normal.dot(eye - centre);
+        if height <= 0.0 {
+            return false;
+        }
+        let gap = 2.0 * self.pad;
+        let end = if height > 2.0 * gap {
+            centre + (eye - centre) * (gap / height)
+        } else {
+            centre
+        };
+        self.clear(sources, eye, end, [own_surface, poly.surface])
+    }
+
     /// The mean over `samples` (points of the receiving element, with weights
     /// summing to 1) of the visible form factor to patch `target`, each computed
     /// exactly by clipping; `None` if any point needs the rays instead.

@@ -164,7 +164,7 @@ pub(super) fn export_cameras(
     scene: &Scene,
     precise: &mut Vec<(String, Value)>,
 ) -> Vec<Index<Node>> {
-    let znear = (scene.diameter() * 1e-4).max(1e-6);
+    let znear = (scene.extent() * 1e-4).max(1e-6);
     scene
         .cameras
         .iter()

@@ -134,5 +134,7 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
             Error::Geometry(m) => super::gltf_error(path, m),
             other => other,
         })?;
+    let far = scene.outlier_warning();
+    scene.warnings.extend(far);
     Ok(scene)
 }

@@ -105,13 +105,7 @@ impl Solver for Gathering {
     fn finish(self, mut ws: Workspace<'_>) -> Solution {
         ws.finish_stats(&self.system, self.report, self.iterations, self.totals);
         ws.stats.warn();
-        Solution {
-            mesh: ws.mesh,
-            form_factors: ws.form_factors,
-            radiosity: ws.radiosity,
-            system: self.system,
-            stats: ws.stats,
-        }
+        ws.into_solution(self.system)
     }
 }
 

@@ -9,6 +9,7 @@
 mod gathering;
 mod memory;
 mod progress;
+mod scale;
 mod settings;
 mod shooting;
 mod skips;

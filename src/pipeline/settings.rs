@@ -94,7 +94,7 @@ impl Settings {
     #[must_use]
     pub fn patch_size_for(&self, scene: &Scene) -> f64 {
         self.patch_size
-            .unwrap_or_else(|| scene.diameter() / PATCHES_PER_DIAMETER)
+            .unwrap_or_else(|| scene.extent() / PATCHES_PER_DIAMETER)
     }
 
     /// Checks every setting's range; the error names the setting.

@@ -45,6 +45,12 @@ pub struct HemicubeFigures {
     pub mean_row_sum: f64,
     /// Largest element row sum.
     pub max_row_sum: f64,
+    /// Emitter polygons whose visibility from a row's receiving point was
+    /// found exactly (by clipping, else by shadow rays), summed over rows.
+    pub emitters_exact: u64,
+    /// Emitter polygons seen as less than a pixel by a row that sees many
+    /// emitter polygons: Lambert's formula times one shadow ray each.
+    pub emitters_one_ray: u64,
 }
 
 /// The energy balance of the final gather, per band and summed over bands.
@@ -266,6 +272,8 @@ impl SolveStats {
             patch_form_factors: system.nonzeros(),
             mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,
             max_row_sum: sums.iter().copied().fold(0.0, f64::max),
+            emitters_exact: hemicube.emitters_exact,
+            emitters_one_ray: hemicube.emitters_one_ray,
         };
         self.memory = MemoryFigures::of(mesh, form_factors, radiosity, system);
         self.solver = report;

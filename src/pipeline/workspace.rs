@@ -4,6 +4,7 @@
 //! once, for both solvers.
 
 use super::memory;
+use super::scale::EmissionScale;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
 use crate::error::{Error, Result};
@@ -11,6 +12,7 @@ use crate::formfactor::{compute_rows_with, FormFactors, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_for_split, Marks};
 use crate::scene::{check_coplanar_overlaps, Scene};
+use crate::solution::Solution;
 use crate::solve::{DirectLight, GatherTotals, PatchSystem, Radiosity, SolveReport};
 use std::time::Instant;
 
@@ -38,6 +40,8 @@ pub(crate) struct Workspace<'a> {
     /// The punctual lights' irradiance per leaf (`None` when the scene has
     /// no punctual light: nothing of the solve changes then).
     pub direct: Option<DirectLight>,
+    /// The power of two the mesh's emissions were scaled by for the solve.
+    pub scale: EmissionScale,
 }
 
 impl<'a> Workspace<'a> {
@@ -60,12 +64,13 @@ impl<'a> Workspace<'a> {
         scene.check_lights()?;
         scene.check_light()?;
         scene.check_reflectance()?;
+        scene.check_materials()?;
         check_coplanar_overlaps(scene)?;
         let started = Instant::now();
         let refine = &settings.refine;
         let min_area = refine
             .min_element_area
-            .unwrap_or_else(|| (scene.diameter() * 1e-3).powi(2));
+            .unwrap_or_else(|| (scene.extent() * 1e-3).powi(2));
         let t = Instant::now();
         // No more patches than memory could hold with one leaf each: checked
         // surface by surface before the lattice is allocated.
@@ -92,6 +97,7 @@ impl<'a> Workspace<'a> {
         )?;
         memory::check_fits(&mesh, settings.max_memory)?;
         let mut stats = SolveStats::default();
+        let scale = EmissionScale::normalise(&mut mesh, scene, &mut stats.warnings);
         stats.seconds.mesh = t.elapsed().as_secs_f64();
         let mut plan = RowPlan::new(&mesh, settings);
         // Coloured punctual lights make coloured reflected light.
@@ -112,6 +118,7 @@ impl<'a> Workspace<'a> {
             stats,
             min_area,
             direct: (!scene.lights.is_empty()).then(DirectLight::default),
+            scale,
         };
         ws.update_direct();
         Ok(ws)
@@ -300,6 +307,26 @@ impl<'a> Workspace<'a> {
 
 /// How the warning about refinement held back by the budget starts.
 const BUDGET: &str = "refinement stopped at the element budget";
+
+impl Workspace<'_> {
+    /// The solution of the finished solve with the final patch `system`, at
+    /// the scene's own emission scale.
+    pub(super) fn into_solution(mut self, mut system: PatchSystem) -> Solution {
+        self.scale.restore_solution(
+            &mut self.mesh,
+            &mut self.radiosity,
+            &mut system,
+            &mut self.stats,
+        );
+        Solution {
+            mesh: self.mesh,
+            form_factors: self.form_factors,
+            radiosity: self.radiosity,
+            system,
+            stats: self.stats,
+        }
+    }
+}
 
 /// Splits every patch to `depth`, failing if that would exceed `max_elements`.
 /// With `whole_clusters`, the roots of face clusters are left whole: a

@@ -194,6 +194,8 @@ impl SceneBuilder {
         if let Some(policy) = self.overlaps {
             scene.resolve_overlaps(policy)?;
         }
+        let far = scene.outlier_warning();
+        scene.warnings.extend(far);
         Ok(scene)
     }
 }

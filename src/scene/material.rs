@@ -62,6 +62,17 @@ impl Material {
         if self.emission.min_band() < 0.0 {
             return Err(err(format!("emission {:?} is negative", self.emission.0)));
         }
+        // A subnormal double carries fewer significant bits than the solve
+        // needs, and arithmetic on such values is slow enough to stall it.
+        if self.emission.0.iter().any(|e| *e != 0.0 && !e.is_normal()) {
+            return Err(err(format!(
+                "emission {:?} has a band below {:e}, the smallest normal double: too \
+                 small to be represented; results are linear in emission, so scale every \
+                 emission of the scene up by the same factor",
+                self.emission.0,
+                f64::MIN_POSITIVE
+            )));
+        }
         Ok(())
     }
 

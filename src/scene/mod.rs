@@ -6,6 +6,7 @@
 
 mod builder;
 mod camera;
+mod extent;
 mod facing;
 mod framing;
 mod light;
@@ -15,6 +16,7 @@ mod surface;
 
 pub use builder::SceneBuilder;
 pub use camera::Camera;
+pub use extent::Outliers;
 pub(crate) use facing::facing_warnings;
 pub use light::{range_window, spot_falloff, Incident, Light, LightKind, Target};
 pub use material::Material;
@@ -99,8 +101,9 @@ impl Scene {
         (lo, hi)
     }
 
-    /// The length of the bounding box diagonal: the scene's size, from which
-    /// default patch sizes and tolerances are derived.
+    /// The length of the bounding box diagonal of every surface. Defaults
+    /// that scale with the scene follow [`Scene::extent`] instead, which
+    /// leaves out far outliers.
     #[must_use]
     pub fn diameter(&self) -> f64 {
         let (lo, hi) = self.bounds();
@@ -197,6 +200,22 @@ impl Scene {
                 ),
             }),
         }
+    }
+
+    /// Runs [`Material::validate`] on every material a surface uses: a
+    /// material built field by field skips the check
+    /// [`Material::from_radiance`] makes (a subnormal emission, for one,
+    /// would stall the solve).
+    pub(crate) fn check_materials(&self) -> crate::Result<()> {
+        let mut used = vec![false; self.materials.len()];
+        for s in &self.surfaces {
+            used[s.material as usize] = true;
+        }
+        self.materials
+            .iter()
+            .zip(used)
+            .filter(|(_, used)| *used)
+            .try_for_each(|(m, _)| m.validate())
     }
 
     /// Treats every surface as two-sided: each surface of a material not yet

@@ -68,6 +68,16 @@ impl Radiosity {
         self.patches.extend_from_slice(values);
     }
 
+    /// Replaces every element and patch value `v` by `f(v)`.
+    pub(crate) fn map_values(&mut self, f: impl Fn(Rgb) -> Rgb) {
+        for v in self.elements.values_mut() {
+            *v = f(*v);
+        }
+        for v in &mut self.patches {
+            *v = f(*v);
+        }
+    }
+
     /// The children of a split element start with its radiosity.
     pub fn inherit(&mut self, parent: ElementKey, children: &[ElementKey]) {
         let value = self.element(parent);

@@ -2,7 +2,7 @@
 //! Lambert's exact formula how much.
 
 use super::{Hemicube, BACK_FACE, NOTHING};
-use crate::formfactor::{point_to_polygon, EmitterVisibility, PixelHint, Row, Sources};
+use crate::formfactor::{point_to_polygon, EmitterVisibility, Row, Sources};
 use glam::DVec3;
 
 impl Hemicube {
@@ -80,70 +80,16 @@ impl Hemicube {
                 same
             });
         }
-        if let Some(EmitterVisibility {
-            occluders,
-            seed,
-            samples,
-        }) = emitter_rays
-        {
-            let mut changed = false;
-            for &j in &sources.emitters {
-                let (won, covered) = (row.get(j), self.covered[j as usize]);
-                let hint = if covered <= 0.0 {
-                    PixelHint::Unseen
-                } else if won >= covered * (1.0 - 1e-6) {
-                    PixelHint::Whole
-                } else if won > 0.0 {
-                    PixelHint::Partial
-                } else {
-                    PixelHint::Hidden
-                };
-                // Polygon by polygon (a face cluster that emits has several).
-                let mut f = 0.0;
-                let mut seen = false;
-                for q in sources.range(j) {
-                    let poly = &sources.polygons[q];
-                    if poly.surface == own_surface {
-                        continue;
-                    }
-                    let exact = point_to_polygon(eye, normal, poly.corners());
-                    if exact <= 0.0 {
-                        continue;
-                    }
-                    seen = true;
-                    let q = q as u32;
-                    // The element's mean form factor where every sample can be
-                    // clipped exactly; else the centre's, with ray-cast visibility.
-                    let exact_mean = if samples.is_empty() {
-                        None
-                    } else {
-                        occluders.mean_visible_form_factor(sources, samples, normal, own_surface, q)
-                    };
-                    f += exact_mean.unwrap_or_else(|| {
-                        exact
-                            * occluders.visible_fraction(
-                                sources,
-                                eye,
-                                normal,
-                                own_surface,
-                                q,
-                                seed,
-                                hint,
-                            )
-                    });
-                }
-                if !seen {
-                    continue;
-                }
-                match entries.binary_search_by_key(&j, |e| e.0) {
-                    Ok(i) => entries[i] = (j, f, false),
-                    Err(i) => entries.insert(i, (j, f, false)),
-                }
-                changed = true;
-            }
-            if changed {
-                entries.retain(|e| e.1 > 0.0);
-            }
+        if let Some(visibility) = emitter_rays {
+            self.emitter_entries(
+                &row,
+                &mut entries,
+                sources,
+                eye,
+                normal,
+                own_surface,
+                &visibility,
+            );
         }
         if open <= OPEN_CLOSURE {
             close_row(&mut entries, front);

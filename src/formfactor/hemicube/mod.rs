@@ -4,12 +4,14 @@
 //!
 //! One concept a file: the buffers and their read-out ([`Hemicube::row`],
 //! `row.rs`), scan conversion (`raster.rs`), the hybrid form-factor policy
-//! (`hybrid.rs`), what a shooter's item buffer needs (`coverage.rs`), the
-//! rectangles drawn into (`drawn.rs`) and the work counters (`stats.rs`).
+//! (`hybrid.rs`) and its emitter entries (`emitters.rs`), what a shooter's
+//! item buffer needs (`coverage.rs`), the rectangles drawn into (`drawn.rs`)
+//! and the work counters (`stats.rs`).
 
 mod coverage;
 mod cull;
 mod drawn;
+mod emitters;
 mod faces;
 mod hybrid;
 mod raster;

@@ -23,11 +23,17 @@ pub struct HemicubeStats {
     /// Rows given by the exact unoccluded form factor with no hemi-cube at all
     /// (a convex enclosure; see `crate::formfactor::is_convex_enclosure`).
     pub exact_rows: u64,
+    /// Emitter polygons whose visibility was found exactly: by clipping the
+    /// shaft, else by shadow rays (summed over rows).
+    pub emitters_exact: u64,
+    /// Emitter polygons seen as less than a pixel by a row that sees many,
+    /// given one shadow ray each (see `emitters.rs`).
+    pub emitters_one_ray: u64,
 }
 
 impl HemicubeStats {
     /// Every counter, in declaration order, for element-wise arithmetic.
-    fn counters(&mut self) -> [&mut u64; 8] {
+    fn counters(&mut self) -> [&mut u64; 10] {
         [
             &mut self.hemicubes,
             &mut self.polygons_rasterized,
@@ -37,6 +43,8 @@ impl HemicubeStats {
             &mut self.polygons_culled,
             &mut self.back_faces_skipped,
             &mut self.exact_rows,
+            &mut self.emitters_exact,
+            &mut self.emitters_one_ray,
         ]
     }
 }

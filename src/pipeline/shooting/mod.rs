@@ -242,13 +242,7 @@ impl Solver for Shooting<'_> {
         ws.stats.warn();
         ws.stats.progressive = Some(std::mem::take(f));
         ws.stats.seconds.total = ws.started.elapsed().as_secs_f64();
-        Solution {
-            mesh: ws.mesh,
-            form_factors: ws.form_factors,
-            radiosity: ws.radiosity,
-            system,
-            stats: ws.stats,
-        }
+        ws.into_solution(system)
     }
 }
 
@@ -396,13 +390,26 @@ impl<'p> Shooting<'p> {
             return;
         };
         if self.shots.is_multiple_of(every) {
+            let ambient = ambient_term(&ws.mesh, &self.state.unshot, &self.state.exposure);
+            // The caller sees the scene's own scale: a solve at another one
+            // hands out a restored copy (the mesh's emissions stay scaled;
+            // a preview reads only radiosities and reflectances).
+            let restored;
+            let radiosity = if ws.scale.is_one() {
+                &ws.radiosity
+            } else {
+                let mut copy = ws.radiosity.clone();
+                copy.map_values(|v| ws.scale.restore_rgb(v));
+                restored = copy;
+                &restored
+            };
             callback(&Preview {
                 shots: self.shots,
                 unshot_fraction: self.fraction,
-                ambient: ambient_term(&ws.mesh, &self.state.unshot, &self.state.exposure),
+                ambient: ws.scale.restore_rgb(ambient),
                 seconds: ws.started.elapsed().as_secs_f64(),
                 mesh: &ws.mesh,
-                radiosity: &ws.radiosity,
+                radiosity,
             });
         }
     }

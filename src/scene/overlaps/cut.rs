@@ -27,8 +27,7 @@ pub(super) struct Outcome {
 /// Replaces every surface below another by its pieces outside the ones on
 /// top, and drops the duplicates, keeping the scene's order otherwise.
 pub(super) fn apply(scene: &mut Scene, found: &Found) -> Outcome {
-    let diameter = scene.diameter();
-    let thin = COPLANAR_GAP * diameter;
+    let thin = COPLANAR_GAP * scene.extent();
     let dropped: HashSet<usize> = found.duplicates.iter().map(|&(d, _)| d).collect();
     let mut cutters: HashMap<usize, Vec<usize>> = HashMap::new();
     for &(below, on_top) in &found.pairs {

@@ -24,11 +24,14 @@ use crate::scene::Scene;
 use pairs::{find_overlaps, Scope};
 use std::str::FromStr;
 
-/// Planes closer than this fraction of the scene's diameter count as one. The
-/// item buffer keeps 1/depth in single precision, stepped along each span, so
-/// it can misorder surfaces whose depths differ by less than about
-/// `n * 1.2e-7` relative at a resolution of `n` (1.5e-5 at 128): such a gap
-/// is as good as none for a receiver across the scene.
+/// Planes closer than this fraction of the size of the two surfaces (the
+/// diagonal of the box of both; at most of the scene's size,
+/// [`Scene::extent`]) count as one. The item buffer keeps 1/depth in single
+/// precision, stepped along each span, so it can misorder surfaces whose
+/// depths differ by less than about `n * 1.2e-7` relative at a resolution of
+/// `n` (1.5e-5 at 128): such a gap is as good as none for a receiver as far
+/// away as the surfaces are large. Receivers farther away see them as a
+/// speck, where a misordered pixel matters little.
 pub const COPLANAR_GAP: f64 = 1e-5;
 
 /// What to do with coplanar surfaces that overlap, facing the same way.
@@ -72,9 +75,10 @@ impl Scene {
     /// overlap, facing the same way.
     ///
     /// Two surfaces are coplanar when their normals agree to 1e-3 and every
-    /// vertex of each lies within [`COPLANAR_GAP`] of the scene's diameter of
-    /// the other's plane; they overlap when their polygons share more than
-    /// 1e-9 of the diameter across (sharing an edge is not overlapping).
+    /// vertex of each lies within [`COPLANAR_GAP`] of their own size (at most
+    /// of the scene's, [`Scene::extent`]) of the other's plane; they overlap
+    /// when their polygons share more than 1e-9 of the scene's size across
+    /// (sharing an edge is not overlapping).
     ///
     /// Of two overlapping coplanar surfaces, the one **on top** is, in order:
     ///
@@ -90,7 +94,7 @@ impl Scene {
     /// it is cut away, and the surface is replaced by the convex pieces of it
     /// outside every surface on top of it, each a triangle or convex quad of
     /// its material and object (pieces thinner than [`COPLANAR_GAP`] of the
-    /// diameter are dropped). Surfaces with exactly the same vertices count
+    /// scene's size are dropped). Surfaces with exactly the same vertices count
     /// once: the one on top stays. One warning in [`Scene::warnings`] gives
     /// the number of pairs and names the first few by object;
     /// [`ImportStats`](crate::scene::ImportStats) counts them.

@@ -9,7 +9,7 @@
 
 use super::COPLANAR_GAP;
 use crate::scene::{Scene, Surface};
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -42,9 +42,9 @@ impl Found {
 
 /// The overlapping pairs of `scene` within `scope`.
 pub(super) fn find_overlaps(scene: &Scene, scope: Scope) -> Found {
-    let diameter = scene.diameter();
-    let gap = COPLANAR_GAP * diameter;
-    let touch = 1e-9 * diameter;
+    let extent = scene.extent();
+    let gap = COPLANAR_GAP * extent;
+    let touch = 1e-9 * extent;
     let mut found = Found::default();
     for run in coplanar_runs(scene, gap) {
         find_in_run(scene, &run, gap, touch, scope, &mut found);
@@ -141,7 +141,7 @@ fn find_in_run(
         if scope == Scope::DifferentMaterials && looks_the_same(scene, sa, sb) {
             return;
         }
-        if same_plane(sa, sb, gap) && overlap(&fa.points, &fb.points, touch) {
+        if same_plane(sa, sb, pair_gap(sa, sb, gap)) && overlap(&fa.points, &fb.points, touch) {
             found.pairs.push(rank.below_and_on_top(fa.index, fb.index));
         }
     });
@@ -247,6 +247,20 @@ impl<'a> Rank<'a> {
 
 /// Both face the same way and every vertex of each lies within `gap` of the
 /// other's plane.
+/// The coplanar gap of two surfaces: [`COPLANAR_GAP`] of their own size (the
+/// diagonal of the box of both), at most `gap`, the scene's. A lamp a
+/// millimetre under its ceiling is not one plane with it because the scene
+/// around them spans a hundred metres: only receivers hundreds of metres
+/// away could misorder the two, and to them the lamp is a speck.
+fn pair_gap(a: &Surface, b: &Surface, gap: f64) -> f64 {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for v in a.vertices.iter().chain(&b.vertices) {
+        lo = lo.min(*v);
+        hi = hi.max(*v);
+    }
+    (COPLANAR_GAP * (hi - lo).length()).min(gap)
+}
+
 fn same_plane(a: &Surface, b: &Surface, gap: f64) -> bool {
     let near = |s: &Surface, t: &Surface| {
         t.vertices

@@ -87,6 +87,6 @@ pub(super) fn refusal(scene: &Scene, found: &Found) -> Error {
          off the other by at least {:.3e} m (1e-4 of the scene's size), or cut a hole for it",
         found.pairs.len() + found.duplicates.len(),
         listing(scene, found, " and "),
-        1e-4 * scene.diameter()
+        1e-4 * scene.extent()
     ))
 }
