@@ -33,3 +33,4 @@ mod skips;
 mod stability;
 mod stress_scenes;
 mod substructuring;
+mod textures;
