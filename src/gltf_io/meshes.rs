@@ -244,9 +244,17 @@ fn texture_coordinates(
         .attributes
         .get(&Checked::Valid(Semantic::TexCoords(set)))
     else {
-        scene.warnings.push(format!(
-            "{here}: its material's base colour texture reads TEXCOORD_{set}, which the              primitive lacks; using the texture's mean"
-        ));
+        // One warning per material: a file whose textured material covers
+        // many primitives without coordinates would otherwise repeat it.
+        let name = &scene.materials[material as usize].name;
+        let warning = format!(
+            "material '{name}': its base colour texture reads TEXCOORD_{set}, which some \
+             of its primitives (first {here}) lack; they take the texture's mean"
+        );
+        let prefix = format!("material '{name}': its base colour texture reads");
+        if !scene.warnings.iter().any(|w| w.starts_with(&prefix)) {
+            scene.warnings.push(warning);
+        }
         return Ok(None);
     };
     let uv = read_texcoords(src.doc, src.buffers, accessor.value(), src.limits)
