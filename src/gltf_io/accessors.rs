@@ -356,3 +356,36 @@ fn apply_sparse<T>(
     }
     Ok(())
 }
+
+/// The texture coordinates of a `TEXCOORD_n` accessor: `VEC2` of `FLOAT`, or
+/// of normalized unsigned bytes or shorts, as glTF allows.
+pub(super) fn read_texcoords(
+    doc: &Document,
+    buffers: &[Vec<u8>],
+    index: usize,
+    limits: &ImportLimits,
+) -> Result<Vec<glam::DVec2>, Message> {
+    let acc = accessor(doc, index)?;
+    let name = describe("accessor", index, acc.name.as_deref());
+    let (size, unit) = match component_type(acc) {
+        Some(ComponentType::F32) if !acc.normalized => (4, None),
+        Some(ComponentType::U8) if acc.normalized => (1, Some(255.0)),
+        Some(ComponentType::U16) if acc.normalized => (2, Some(65535.0)),
+        _ => (0, None),
+    };
+    if type_of(acc) != Some(Type::Vec2) || size == 0 {
+        return Err(format!(
+            "{name} holds texture coordinates as {:?} of {:?}; they must be VEC2 of FLOAT, \
+             or of normalized unsigned bytes or shorts",
+            type_of(acc),
+            component_type(acc)
+        ));
+    }
+    read_elements(doc, buffers, acc, &name, 2 * size, limits, |b| {
+        let [u, v] = [0, 1].map(|k| match unit {
+            None => f64::from(f32_at(b, 4 * k)),
+            Some(max) => f64::from(uint_at(&b[k * size..], size)) / max,
+        });
+        glam::DVec2::new(u, v)
+    })
+}

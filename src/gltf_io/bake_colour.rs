@@ -133,6 +133,7 @@ mod tests {
         Material {
             name: "m".to_string(),
             reflectance: rho,
+            base_texture: None,
             emission,
             double_sided: false,
         }

@@ -1,5 +1,6 @@
 //! glTF materials as diffuse materials: reflectance from `baseColorFactor` (times the
-//! mean of its texture, if it decodes) times `1 - metallic`, emitted radiance from `emissiveFactor` times
+//! mean of its texture, if it decodes, which the material also keeps so that
+//! each element gets the texture over its own footprint) times `1 - metallic`, emitted radiance from `emissiveFactor` times
 //! `KHR_materials_emissive_strength` (times the mean of the emissive texture, if it
 //! decodes). Textures are decoded only for materials that some triangle primitive
 //! of the imported scene uses.
@@ -10,12 +11,14 @@ use super::nodes::Placed;
 use super::options::LoadOptions;
 use super::precise::{number, numbers};
 use super::primitives::triangle_mode;
+use super::texture_use::texture_use;
 use super::textures::{Images, Unusable};
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::scene::Material;
 use gltf_json::validation::Checked;
 use std::path::Path;
+use std::sync::Arc;
 
 /// The reflectance given to primitives without a material.
 pub(super) const DEFAULT_GREY: f64 = 0.8;
@@ -68,11 +71,17 @@ pub(super) fn convert_materials(
         )
         .unwrap_or([1.0; 4]);
         let mut reflectance = Rgb::new(rgba[0], rgba[1], rgba[2]);
+        let factor = reflectance;
         let in_use = used.get(i).copied().unwrap_or(false);
         let base_texture = m.pbr_metallic_roughness.base_color_texture.as_ref();
+        let mut texture = None;
         if let Some(info) = base_texture.filter(|_| in_use) {
             match images.for_texture(info.index.value()) {
-                Ok(image) => reflectance = reflectance * image.mean(),
+                Ok(image) => {
+                    reflectance = reflectance * image.mean();
+                    let pointer = format!("{base}/pbrMetallicRoughness/baseColorTexture");
+                    texture = Some(texture_use(doc, &pointer, info, image, factor, options));
+                }
                 Err(Unusable::Ignored(why)) => warnings.push(format!(
                     "material '{name}': base colour texture ignored ({why}); using baseColorFactor alone"
                 )),
@@ -83,6 +92,9 @@ pub(super) fn convert_materials(
             let metallic = metallic(path, doc, i, &name, images, warnings)?;
             if metallic > 0.0 {
                 reflectance *= 1.0 - metallic.min(1.0);
+                if let Some(t) = &mut texture {
+                    t.factor *= 1.0 - metallic.min(1.0);
+                }
             }
         }
         let factor = numbers::<3>(&doc.raw, &format!("{base}/emissiveFactor")).unwrap_or([0.0; 3]);
@@ -109,6 +121,7 @@ pub(super) fn convert_materials(
         let mut material = Material::from_radiance(&name, reflectance, radiance)
             .map_err(|e| in_file(path, i, e))?;
         material.double_sided = m.double_sided || options.double_sided;
+        material.base_texture = texture.map(Arc::new);
         out.push(material);
     }
     if !clamped.is_empty() {
@@ -189,6 +202,7 @@ pub(super) fn default_material() -> Material {
     Material {
         name: "default grey".to_string(),
         reflectance: Rgb::splat(DEFAULT_GREY),
+        base_texture: None,
         emission: Rgb::ZERO,
         double_sided: false,
     }

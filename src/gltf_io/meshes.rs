@@ -2,19 +2,20 @@
 //! positions moved to world space, triangles assembled per primitive mode,
 //! degenerate triangles dropped, coplanar pairs merged into quads.
 
-use super::accessors::{read_indices, read_positions};
+use super::accessors::{read_indices, read_positions, read_texcoords};
 use super::document::Document;
 use super::limits::ImportLimits;
 use super::materials::default_material;
 use super::nodes::Placed;
 use super::primitives::{triangle_count, triangle_mode, triangles};
-use super::quad_merge::{merge_into_quads, Triangle};
+use super::quad_merge::{merge_into_quads, Polygon, Triangle};
 use super::{describe, gltf_error};
 use crate::error::{Error, Result};
 use crate::scene::{Object, Scene, Surface, MAX_COORDINATE};
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 use gltf_json::mesh::{Mode, Semantic};
 use gltf_json::validation::Checked;
+use smallvec::SmallVec;
 use std::collections::HashMap;
 use std::path::Path;
 use std::rc::Rc;
@@ -153,21 +154,52 @@ pub(super) fn add_mesh_instance(
             mirrored,
             scene,
         )?;
+        let (tris, corners) = tris;
         let read = tris.len();
-        let kept: Vec<Triangle> = tris
+        let (kept, corners): (Vec<Triangle>, Vec<[usize; 3]>) = tris
             .into_iter()
-            .filter(|t| !is_degenerate(&t.points))
-            .collect();
+            .zip(corners)
+            .filter(|(t, _)| !is_degenerate(&t.points))
+            .unzip();
         scene.import_stats.degenerate_triangles += read - kept.len();
-        let (polygons, merged) = merge_into_quads(&kept);
-        scene.import_stats.merged_quads += merged;
+        let uvs = texture_coordinates(src, prim, material, &here, scene)?;
+        if let Some(uv) = &uvs {
+            if corners.iter().flatten().any(|&i| i >= uv.len()) {
+                return Err(gltf_error(
+                    src.path,
+                    format!("{here}: its texture coordinates are fewer than its vertices"),
+                ));
+            }
+        }
+        // A textured primitive keeps its triangles: texture coordinates are
+        // affine over a triangle, and a merged quad's bilinear map would bend
+        // them.
+        let (polygons, uv_of): (Vec<Polygon>, Vec<SmallVec<[DVec2; 4]>>) = match &uvs {
+            Some(uv) => kept
+                .iter()
+                .zip(&corners)
+                .map(|(t, c)| {
+                    (
+                        t.points.iter().copied().collect(),
+                        c.iter().map(|&i| uv[i]).collect(),
+                    )
+                })
+                .unzip(),
+            None => {
+                let (polygons, merged) = merge_into_quads(&kept);
+                scene.import_stats.merged_quads += merged;
+                let n = polygons.len();
+                (polygons, vec![SmallVec::new(); n])
+            }
+        };
         let double_sided = scene
             .materials
             .get(material as usize)
             .is_some_and(|m| m.double_sided);
-        for poly in polygons {
+        for (poly, uv) in polygons.into_iter().zip(uv_of) {
             match Surface::new(&poly, material, object) {
                 Ok(s) => {
+                    let s = s.with_uv(&uv);
                     if double_sided {
                         let back = s.flipped();
                         scene.surfaces.push(s);
@@ -188,6 +220,46 @@ pub(super) fn add_mesh_instance(
         ));
     }
     Ok(())
+}
+
+/// The texture coordinates per vertex of a primitive whose material has a
+/// base-colour texture (the set the texture reads), or `None`: no texture, or
+/// no such set (a warning: the material's mean reflectance is used).
+fn texture_coordinates(
+    src: &Source,
+    prim: &gltf_json::mesh::Primitive,
+    material: u32,
+    here: &str,
+    scene: &mut Scene,
+) -> Result<Option<Vec<DVec2>>> {
+    let Some(texture) = scene
+        .materials
+        .get(material as usize)
+        .and_then(|m| m.base_texture.as_ref())
+    else {
+        return Ok(None);
+    };
+    let set = texture.texcoord;
+    let Some(accessor) = prim
+        .attributes
+        .get(&Checked::Valid(Semantic::TexCoords(set)))
+    else {
+        // One warning per material: a file whose textured material covers
+        // many primitives without coordinates would otherwise repeat it.
+        let name = &scene.materials[material as usize].name;
+        let warning = format!(
+            "material '{name}': its base colour texture reads TEXCOORD_{set}, which some \
+             of its primitives (first {here}) lack; they take the texture's mean"
+        );
+        let prefix = format!("material '{name}': its base colour texture reads");
+        if !scene.warnings.iter().any(|w| w.starts_with(&prefix)) {
+            scene.warnings.push(warning);
+        }
+        return Ok(None);
+    };
+    let uv = read_texcoords(src.doc, src.buffers, accessor.value(), src.limits)
+        .map_err(|m| gltf_error(src.path, format!("{here}: {m}")))?;
+    Ok(Some(uv))
 }
 
 /// True when the triangle's area is negligible next to its size.
@@ -215,7 +287,7 @@ fn primitive_triangles(
     node_name: &str,
     mirrored: bool,
     scene: &mut Scene,
-) -> Result<Vec<Triangle>> {
+) -> Result<(Vec<Triangle>, Vec<[usize; 3]>)> {
     let fail = |m: String| gltf_error(src.path, format!("{here}: {m}"));
     let position_accessor = prim
         .attributes
@@ -287,12 +359,13 @@ fn primitive_triangles(
         .map(|t| {
             let v = t.map(vertex_of);
             let v = if mirrored { [v[0], v[2], v[1]] } else { v };
-            Triangle {
+            let tri = Triangle {
                 keys: v.map(|i| keys[i]),
                 points: v.map(|i| world_positions[i]),
-            }
+            };
+            (tri, v)
         })
-        .collect())
+        .unzip())
 }
 
 /// Vertex identities for merging. Indexed primitives share vertices through their

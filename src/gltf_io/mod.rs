@@ -43,6 +43,7 @@ mod options;
 mod precise;
 mod primitives;
 mod quad_merge;
+mod texture_use;
 mod textures;
 mod uri;
 

@@ -1,6 +1,7 @@
 //! Patches and elements.
 
 use super::cell::Cell;
+use crate::math::Rgb;
 use glam::DVec3;
 use smallvec::SmallVec;
 
@@ -56,6 +57,9 @@ pub struct Element {
     pub area: f64,
     /// Area centroid (where its hemi-cube sits).
     pub centroid: DVec3,
+    /// Diffuse reflectance: its surface's, or for a textured surface the
+    /// texture's mean over this element's footprint.
+    pub reflectance: Rgb,
 }
 
 impl Element {

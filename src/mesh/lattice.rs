@@ -3,10 +3,11 @@
 
 use super::cell::{Cell, Probe, MAX_DEPTH};
 use crate::math::Rgb;
-use crate::scene::Surface;
-use glam::DVec3;
+use crate::scene::{Surface, Texture};
+use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// How a surface is cut into patches.
 #[derive(Clone, Debug)]
@@ -86,6 +87,9 @@ pub struct SurfaceLattice {
     pub first_root: u32,
     /// Lattice extent along each axis (`L` for both axes of a triangle).
     pub extent: (u32, u32),
+    /// The base-colour texture and the surface's texture coordinates per
+    /// vertex, when it has both: its elements' reflectances come from them.
+    pub texture: Option<(Arc<Texture>, SmallVec<[DVec2; 4]>)>,
 }
 
 impl SurfaceLattice {
@@ -150,6 +154,7 @@ impl SurfaceLattice {
                 grid,
                 first_root,
                 extent,
+                texture: None,
             },
             cells,
         )
@@ -170,6 +175,32 @@ impl SurfaceLattice {
         } else {
             v[0] + (v[1] - v[0]) * s + (v[2] - v[0]) * t
         }
+    }
+
+    /// Texture coordinates of a lattice point, by the same map as
+    /// [`SurfaceLattice::position`] (`None` without a texture).
+    #[must_use]
+    pub fn uv(&self, p: (u32, u32)) -> Option<DVec2> {
+        let (_, uv) = self.texture.as_ref()?;
+        let s = f64::from(p.0) / f64::from(self.extent.0);
+        let t = f64::from(p.1) / f64::from(self.extent.1);
+        Some(if uv.len() == 4 {
+            uv[0].lerp(uv[1], s).lerp(uv[3].lerp(uv[2], s), t)
+        } else {
+            uv[0] + (uv[1] - uv[0]) * s + (uv[2] - uv[0]) * t
+        })
+    }
+
+    /// The reflectance of an element on `cell`: the material's without a
+    /// texture, else the texture's mean over the cell's footprint.
+    #[must_use]
+    pub fn cell_reflectance(&self, cell: &Cell) -> Rgb {
+        let Some((texture, _)) = &self.texture else {
+            return self.reflectance;
+        };
+        let corners: SmallVec<[DVec2; 4]> =
+            cell.corners().iter().filter_map(|c| self.uv(*c)).collect();
+        texture.mean_over(&corners)
     }
 
     /// World polygon of a cell.

@@ -110,6 +110,12 @@ impl Mesh {
                 patch_size,
                 mesh.top_roots.len() as u32,
             );
+            let mut lattice = lattice;
+            if let Some(texture) = &material.base_texture {
+                if surface.uv.len() == surface.vertices.len() {
+                    lattice.texture = Some((texture.clone(), surface.uv.clone()));
+                }
+            }
             mesh.surfaces.push(lattice);
             for cell in cells {
                 let joins = cluster_of[si].and_then(|c| cluster_patch[c]);
@@ -160,6 +166,7 @@ impl Mesh {
             depth,
             area: polygon_area(&polygon),
             centroid: polygon_centroid(&polygon),
+            reflectance: lattice.cell_reflectance(&cell),
         })
     }
 
@@ -286,10 +293,32 @@ impl Mesh {
         self.elements.values().filter(|e| e.is_leaf()).count()
     }
 
-    /// Reflectance of a patch's surface.
+    /// Reflectance of a patch: its surface's, or on a textured surface the
+    /// area-weighted mean of its roots' (the texture over the patch's
+    /// footprint, which refinement below it does not change).
     #[must_use]
     pub fn patch_reflectance(&self, p: u32) -> Rgb {
-        self.surfaces[self.patches[p as usize].surface as usize].reflectance
+        let patch = &self.patches[p as usize];
+        let textured = patch.roots.iter().any(|&k| {
+            self.surfaces[self.elements[k].surface as usize]
+                .texture
+                .is_some()
+        });
+        if !textured {
+            return self.surfaces[patch.surface as usize].reflectance;
+        }
+        let mut sum = Rgb::ZERO;
+        let mut area = 0.0;
+        for &k in &patch.roots {
+            let e = &self.elements[k];
+            sum += e.reflectance * e.area;
+            area += e.area;
+        }
+        if area > 0.0 {
+            sum / area
+        } else {
+            self.surfaces[patch.surface as usize].reflectance
+        }
     }
 
     /// Emission of a patch's surface.

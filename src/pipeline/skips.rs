@@ -121,10 +121,9 @@ impl RowPlan {
             rowless_patch: None,
             grey: skips.grey
                 && gathering
-                && mesh
-                    .surfaces
-                    .iter()
-                    .all(|s| s.reflectance.is_grey() && s.emission.is_grey()),
+                && mesh.surfaces.iter().all(|s| {
+                    s.texture.is_none() && s.reflectance.is_grey() && s.emission.is_grey()
+                }),
         };
         plan.patches_changed(mesh);
         plan

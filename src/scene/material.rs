@@ -1,15 +1,22 @@
 //! Diffuse materials: reflectance per band and emitted exitance.
 
+use super::Texture;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
+use std::sync::Arc;
 
 /// A Lambertian material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Name for messages and stats.
     pub name: String,
-    /// Diffuse reflectance per band, each in [0, 1].
+    /// Diffuse reflectance per band, each in [0, 1]: with a base-colour
+    /// texture, its mean over the whole image (what surfaces without texture
+    /// coordinates get).
     pub reflectance: Rgb,
+    /// The base-colour texture: each element of a surface with texture
+    /// coordinates gets the texture's mean over its footprint.
+    pub base_texture: Option<Arc<Texture>>,
     /// Emitted exitance E = pi * L_e per band (W/m^2 in the scene's units), >= 0.
     pub emission: Rgb,
     /// Whether the source material was marked double-sided (informational: the
@@ -25,6 +32,7 @@ impl Material {
         let m = Material {
             name: name.to_string(),
             reflectance,
+            base_texture: None,
             emission: radiance * std::f64::consts::PI,
             double_sided: false,
         };

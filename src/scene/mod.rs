@@ -13,6 +13,7 @@ mod light;
 mod material;
 mod overlaps;
 mod surface;
+mod texture;
 
 pub use builder::SceneBuilder;
 pub use camera::Camera;
@@ -23,6 +24,7 @@ pub use material::Material;
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::{Overlaps, COPLANAR_GAP};
 pub use surface::{Surface, MAX_COORDINATE};
+pub use texture::{uv_transform, Texture, Wrap, FOOTPRINT_SAMPLES};
 
 use glam::DVec3;
 use serde::Serialize;

@@ -2,7 +2,7 @@
 
 use crate::error::{Error, Result};
 use crate::math::{is_convex, newell_normal, planarity_error, polygon_area, polygon_centroid};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 
 /// Relative out-of-plane deviation above which a quad is refused as non-planar
@@ -34,6 +34,10 @@ pub struct Surface {
     pub material: u32,
     /// Index into `Scene::objects`.
     pub object: u32,
+    /// Texture coordinates per vertex (the set its material's base-colour
+    /// texture reads), or empty: the material's mean reflectance then holds
+    /// over the whole surface.
+    pub uv: SmallVec<[DVec2; 4]>,
 }
 
 impl Surface {
@@ -86,7 +90,18 @@ impl Surface {
             area,
             material,
             object,
+            uv: SmallVec::new(),
         })
+    }
+
+    /// The surface with texture coordinates `uv`, one per vertex in vertex
+    /// order; any other count leaves it without.
+    #[must_use]
+    pub fn with_uv(mut self, uv: &[DVec2]) -> Surface {
+        if uv.len() == self.vertices.len() && uv.iter().all(|t| t.is_finite()) {
+            self.uv = uv.iter().copied().collect();
+        }
+        self
     }
 
     /// The area centroid.
@@ -106,6 +121,7 @@ impl Surface {
     pub fn flipped(&self) -> Surface {
         let mut s = self.clone();
         s.vertices.reverse();
+        s.uv.reverse();
         s.normal = -s.normal;
         s
     }

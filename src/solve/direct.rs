@@ -48,7 +48,7 @@ impl DirectLight {
     #[inline]
     #[must_use]
     pub fn exitance(&self, mesh: &Mesh, k: ElementKey) -> Rgb {
-        let rho = mesh.surfaces[mesh.elements[k].surface as usize].reflectance;
+        let rho = mesh.elements[k].reflectance;
         rho * self.irradiance(k)
     }
 

@@ -141,10 +141,10 @@ pub(crate) fn gather_with(
                 Some(direct) => h + direct.irradiance(k),
             };
             let radiosity = if options.grey {
-                let (rho, emission) = (lattice.reflectance.0[0], lattice.emission.0[0]);
+                let (rho, emission) = (e.reflectance.0[0], lattice.emission.0[0]);
                 Rgb::splat(emission + rho * h_all.0[0])
             } else {
-                lattice.emission + lattice.reflectance * h_all
+                lattice.emission + e.reflectance * h_all
             };
             (radiosity, h, to_rowless)
         })
@@ -155,12 +155,12 @@ pub(crate) fn gather_with(
         let e = &mesh.elements[k];
         let lattice = &mesh.surfaces[e.surface as usize];
         totals.emitted += lattice.emission * e.area;
-        totals.absorbed += (Rgb::ONE - lattice.reflectance) * *h * e.area;
+        totals.absorbed += (Rgb::ONE - e.reflectance) * *h * e.area;
         if let Some(direct) = options.direct {
             // What punctual lights deliver counts as emitted into the scene.
             let hd = direct.irradiance(k);
             totals.emitted += hd * e.area;
-            totals.absorbed += (Rgb::ONE - lattice.reflectance) * hd * e.area;
+            totals.absorbed += (Rgb::ONE - e.reflectance) * hd * e.area;
         }
         if let Some(view) = form_factors.view(k) {
             totals.add_hidden(e.area, *value, view);

@@ -36,3 +36,4 @@ mod skips;
 mod stability;
 mod stress_scenes;
 mod substructuring;
+mod textures;

@@ -105,9 +105,9 @@ pub(crate) fn settle(
         emitted += surface.emission * w;
         if let Some(hd) = state.direct_irradiance(k) {
             // Reflected punctual light is emission to the exchange.
-            emitted += surface.reflectance * hd * w;
+            emitted += e.reflectance * hd * w;
         }
-        taken += (Rgb::splat(e.area) - surface.reflectance * w) * h;
+        taken += (Rgb::splat(e.area) - e.reflectance * w) * h;
     }
     let mut scale = Rgb::ONE;
     for band in 0..3 {

@@ -198,8 +198,7 @@ impl ShootingState {
             let e = &mesh.elements[k];
             let w = f * e.area / exposure;
             row_sum += w;
-            reflected +=
-                mesh.surfaces[e.surface as usize].reflectance * (w * self.delivery_scale(p, k));
+            reflected += e.reflectance * (w * self.delivery_scale(p, k));
         }
         let worst = reflected.max_band();
         let scaled = worst > 1.0;
@@ -307,7 +306,7 @@ impl ShootingState {
         h: Rgb,
     ) {
         let e = &mesh.elements[key];
-        let rho = mesh.surfaces[e.surface as usize].reflectance;
+        let rho = e.reflectance;
         let db = rho * h;
         radiosity.add_to_element(key, db);
         if let Some(slot) = self.irradiance.get_mut(key) {
@@ -340,7 +339,7 @@ impl ShootingState {
             None => h,
             Some(hd) => h + hd,
         };
-        radiosity.set_element(key, s.emission + s.reflectance * h_all);
+        radiosity.set_element(key, s.emission + e.reflectance * h_all);
         self.irradiance.insert(key, h);
     }
 
@@ -377,7 +376,7 @@ impl ShootingState {
         let mut sum = Rgb::ZERO;
         for k in mesh.leaves() {
             let e = &mesh.elements[k];
-            let rho = mesh.surfaces[e.surface as usize].reflectance;
+            let rho = e.reflectance;
             let mut h = self.irradiance.get(k).copied().unwrap_or(Rgb::ZERO);
             if let Some(hd) = self.direct_irradiance(k) {
                 h += hd;

@@ -1,0 +1,254 @@
+//! Base-colour textures as reflectance that varies over a surface.
+//!
+//! A [`Texture`] is a decoded linear image with the glTF sampler's wrap modes
+//! and filter, the `KHR_texture_transform` of the material's texture
+//! reference, which texture coordinate set it reads, and the factor its texels
+//! are multiplied by (`baseColorFactor` times `1 - metallic`). Surfaces carry
+//! per-vertex texture coordinates ([`Surface::uv`](super::Surface::uv)); each
+//! element's reflectance is the texture averaged over the element's footprint
+//! (see [`Texture::mean_over`]).
+
+use crate::gltf_io::LinearImage;
+use crate::math::Rgb;
+use glam::{DMat3, DVec2};
+use std::sync::Arc;
+
+/// How texture coordinates outside 0 to 1 are brought back into the image
+/// (glTF sampler `wrapS` / `wrapT`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// The image tiles (glTF's default).
+    #[default]
+    Repeat,
+    /// The image tiles, every other copy mirrored.
+    MirroredRepeat,
+    /// Coordinates clamp to the edge texels.
+    ClampToEdge,
+}
+
+impl Wrap {
+    /// The wrap mode of a glTF sampler code (10497, 33648, 33071); any other
+    /// code is glTF's default, repeat.
+    #[must_use]
+    pub fn from_gltf(code: u32) -> Self {
+        match code {
+            33648 => Wrap::MirroredRepeat,
+            33071 => Wrap::ClampToEdge,
+            _ => Wrap::Repeat,
+        }
+    }
+
+    /// Texel index `i` of an axis `n` texels long, wrapped into range.
+    fn texel(self, i: i64, n: u32) -> u32 {
+        let n = i64::from(n.max(1));
+        let r = match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::MirroredRepeat => {
+                let m = i.rem_euclid(2 * n);
+                if m < n {
+                    m
+                } else {
+                    2 * n - 1 - m
+                }
+            }
+            Wrap::ClampToEdge => i.clamp(0, n - 1),
+        };
+        r as u32
+    }
+}
+
+/// A base-colour texture as a material uses it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    /// The decoded image, shared by every material showing it.
+    pub image: Arc<LinearImage>,
+    /// Wrap modes along u and v.
+    pub wrap: [Wrap; 2],
+    /// Nearest texel instead of bilinear filtering (a sampler whose
+    /// `magFilter` is `NEAREST`): what a viewer draws, so what is averaged.
+    pub nearest: bool,
+    /// Maps a vertex's texture coordinates to the image's (the
+    /// `KHR_texture_transform` offset, rotation and scale; identity without).
+    pub transform: DMat3,
+    /// The `TEXCOORD_n` set the texture reads.
+    pub texcoord: u32,
+    /// What each texel is multiplied by: the base colour factor times
+    /// `1 - metallic`.
+    pub factor: Rgb,
+    /// The largest reflectance a band may take (the importer's clamp).
+    pub max_reflectance: f64,
+}
+
+/// Samples along each axis of an element's footprint: 8 x 8 on a quad cell,
+/// 64 equal sub-triangles on a triangle cell. Fixed, so that the same element
+/// always gets the same bits; a power of two, so that the sample cells of a
+/// split element are exactly its children's and texel edges at binary
+/// fractions of the surface fall between samples.
+pub const FOOTPRINT_SAMPLES: u32 = 8;
+
+impl Texture {
+    /// The reflectance at texture coordinates `uv` (before the transform):
+    /// the filtered texel times the factor, each band clamped to the maximum.
+    #[must_use]
+    pub fn reflectance_at(&self, uv: DVec2) -> Rgb {
+        let p = self.transform.transform_point2(uv);
+        let texel = if self.nearest {
+            self.nearest_texel(p)
+        } else {
+            self.bilinear(p)
+        };
+        Rgb((texel * self.factor)
+            .0
+            .map(|r| r.clamp(0.0, self.max_reflectance)))
+    }
+
+    /// The mean reflectance over a quad footprint whose texture coordinates
+    /// are the bilinear map of `corners` (counter-clockwise from (0, 0)), or a
+    /// triangle footprint (three corners), from a fixed stratified set of
+    /// samples ([`FOOTPRINT_SAMPLES`]).
+    #[must_use]
+    pub fn mean_over(&self, corners: &[DVec2]) -> Rgb {
+        let n = FOOTPRINT_SAMPLES;
+        let step = 1.0 / f64::from(n);
+        let mut sum = Rgb::ZERO;
+        let mut count = 0u32;
+        if corners.len() == 4 {
+            for j in 0..n {
+                for i in 0..n {
+                    let s = (f64::from(i) + 0.5) * step;
+                    let t = (f64::from(j) + 0.5) * step;
+                    let bottom = corners[0].lerp(corners[1], s);
+                    let top = corners[3].lerp(corners[2], s);
+                    sum += self.reflectance_at(bottom.lerp(top, t));
+                    count += 1;
+                }
+            }
+        } else if corners.len() == 3 {
+            // The centroids of the n^2 equal triangles a regular subdivision
+            // cuts: "up" ones at (i + 1/3, j + 1/3), "down" ones at
+            // (i + 2/3, j + 2/3), in steps of 1/n along the two legs.
+            let (o, a, b) = (corners[0], corners[1] - corners[0], corners[2] - corners[0]);
+            for j in 0..n {
+                for i in 0..n - j {
+                    let up = [1.0 / 3.0, 1.0 / 3.0];
+                    let down = [2.0 / 3.0, 2.0 / 3.0];
+                    for (k, d) in [up, down].iter().enumerate() {
+                        if k == 1 && i + j + 1 >= n {
+                            continue;
+                        }
+                        let s = (f64::from(i) + d[0]) * step;
+                        let t = (f64::from(j) + d[1]) * step;
+                        sum += self.reflectance_at(o + a * s + b * t);
+                        count += 1;
+                    }
+                }
+            }
+        }
+        sum / f64::from(count.max(1))
+    }
+
+    fn texel(&self, x: i64, y: i64) -> Rgb {
+        let img = &self.image;
+        let x = self.wrap[0].texel(x, img.width);
+        let y = self.wrap[1].texel(y, img.height);
+        Rgb(img.texel(x, y).map(f64::from))
+    }
+
+    fn nearest_texel(&self, p: DVec2) -> Rgb {
+        let x = (p.x * f64::from(self.image.width)).floor();
+        let y = (p.y * f64::from(self.image.height)).floor();
+        self.texel(saturate(x), saturate(y))
+    }
+
+    fn bilinear(&self, p: DVec2) -> Rgb {
+        // Texel centres sit at half-integers.
+        let x = p.x * f64::from(self.image.width) - 0.5;
+        let y = p.y * f64::from(self.image.height) - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (saturate(x0), saturate(y0));
+        let top = self.texel(x0, y0) * (1.0 - fx) + self.texel(x0 + 1, y0) * fx;
+        let bottom = self.texel(x0, y0 + 1) * (1.0 - fx) + self.texel(x0 + 1, y0 + 1) * fx;
+        top * (1.0 - fy) + bottom * fy
+    }
+}
+
+/// A texel index from a float, kept well inside `i64` (NaN becomes 0) so
+/// that the wrap arithmetic cannot overflow.
+fn saturate(x: f64) -> i64 {
+    if x.is_nan() {
+        0
+    } else {
+        x.clamp(-1e15, 1e15) as i64
+    }
+}
+
+/// The `KHR_texture_transform` matrix: `T * R * S` as the extension defines
+/// it (rotation counter-clockwise in UV space, which runs down the image).
+#[must_use]
+pub fn uv_transform(offset: [f64; 2], rotation: f64, scale: [f64; 2]) -> DMat3 {
+    let (s, c) = rotation.sin_cos();
+    let t = DMat3::from_cols_array(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, offset[0], offset[1], 1.0]);
+    let r = DMat3::from_cols_array(&[c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0]);
+    let sc = DMat3::from_cols_array(&[scale[0], 0.0, 0.0, 0.0, scale[1], 0.0, 0.0, 0.0, 1.0]);
+    t * r * sc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn checker() -> Texture {
+        let (d, b) = ([0.2f32; 3], [0.8f32; 3]);
+        Texture {
+            image: Arc::new(LinearImage {
+                width: 2,
+                height: 2,
+                texels: vec![d, b, b, d],
+            }),
+            wrap: [Wrap::Repeat; 2],
+            nearest: true,
+            transform: DMat3::IDENTITY,
+            texcoord: 0,
+            factor: Rgb::ONE,
+            max_reflectance: 1.0,
+        }
+    }
+
+    fn square(x0: f64, y0: f64, s: f64) -> [DVec2; 4] {
+        [
+            DVec2::new(x0, y0),
+            DVec2::new(x0 + s, y0),
+            DVec2::new(x0 + s, y0 + s),
+            DVec2::new(x0, y0 + s),
+        ]
+    }
+
+    #[test]
+    fn a_checker_square_is_its_texel_and_a_straddling_one_the_mean() {
+        let t = checker();
+        assert_eq!(
+            t.mean_over(&square(0.0, 0.0, 0.5)),
+            Rgb::splat(0.2f32 as f64)
+        );
+        assert_eq!(
+            t.mean_over(&square(0.5, 0.0, 0.25)),
+            Rgb::splat(0.8f32 as f64)
+        );
+        let mid = t.mean_over(&square(0.25, 0.25, 0.5)).0[0];
+        assert!((mid - 0.5).abs() < 1e-7, "{mid}");
+        let tri = t.mean_over(&[DVec2::ZERO, DVec2::new(0.5, 0.0), DVec2::new(0.0, 0.5)]);
+        assert_eq!(tri, Rgb::splat(0.2f32 as f64));
+    }
+
+    #[test]
+    fn wrap_modes_and_the_transform() {
+        assert_eq!(Wrap::Repeat.texel(-1, 4), 3);
+        assert_eq!(Wrap::MirroredRepeat.texel(4, 4), 3);
+        assert_eq!(Wrap::MirroredRepeat.texel(-1, 4), 0);
+        assert_eq!(Wrap::ClampToEdge.texel(9, 4), 3);
+        let m = uv_transform([0.5, 0.0], 0.0, [2.0, 2.0]);
+        let p = m.transform_point2(DVec2::new(0.25, 0.25));
+        assert!((p - DVec2::new(1.0, 0.5)).length() < 1e-12);
+    }
+}
