@@ -36,12 +36,18 @@ pub(crate) fn leaf_bytes() -> usize {
 /// The least a solve of `mesh` (its patches and current leaves) will hold,
 /// estimated before any row is computed.
 pub(crate) fn estimate(mesh: &Mesh) -> u64 {
+    let entries = mesh.patches().len().min(LEAST_ROW_ENTRIES);
+    let rows = mesh.leaf_count() as u64 * (entries * ROW_ENTRY_BYTES) as u64;
+    held(mesh, rows)
+}
+
+/// What a solve of `mesh` holds when its rows take `row_bytes`: the patches
+/// with their system rows (as [`estimate`] counts them) and the leaves.
+pub(crate) fn held(mesh: &Mesh, row_bytes: u64) -> u64 {
     let patches = mesh.patches().len();
-    let leaves = mesh.leaf_count();
     let entries = patches.min(LEAST_ROW_ENTRIES);
     let per_patch = size_of::<Patch>() + entries * SYSTEM_ENTRY_BYTES;
-    let per_leaf = leaf_bytes() + entries * ROW_ENTRY_BYTES;
-    (patches as u64) * per_patch as u64 + (leaves as u64) * per_leaf as u64
+    (patches as u64) * per_patch as u64 + (mesh.leaf_count() * leaf_bytes()) as u64 + row_bytes
 }
 
 /// Refuses `mesh` when its [`estimate`] exceeds `limit` bytes, saying what it
@@ -72,11 +78,6 @@ pub(crate) fn leaves_that_fit(limit: u64, used: u64, per_leaf: f64) -> usize {
     } else {
         room as usize
     }
-}
-
-/// The bytes [`estimate`] counts for one leaf's row in a mesh of `patches`.
-pub(crate) fn estimated_row_bytes(patches: usize) -> f64 {
-    (patches.min(LEAST_ROW_ENTRIES) * ROW_ENTRY_BYTES) as f64
 }
 
 /// The most patches a mesh may be built with under `limit` bytes, each with

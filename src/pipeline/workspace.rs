@@ -229,13 +229,11 @@ impl<'a> Workspace<'a> {
     /// How many more leaves the memory limit holds, at the bytes per leaf
     /// the rows computed so far take.
     fn leaves_that_fit(&self) -> usize {
-        let rows = self.form_factors.row_bytes() as f64;
+        let rows = self.form_factors.row_bytes();
         let leaves = self.mesh.leaf_count().max(1) as f64;
-        let used = memory::estimate(&self.mesh) as f64;
-        // The estimate's rows replaced by the measured ones.
-        let per_leaf = memory::leaf_bytes() as f64 + rows / leaves;
-        let used = used - leaves * memory::estimated_row_bytes(self.mesh.patches().len()) + rows;
-        memory::leaves_that_fit(self.settings.max_memory, used.max(0.0) as u64, per_leaf)
+        let per_leaf = memory::leaf_bytes() as f64 + rows as f64 / leaves;
+        let used = memory::held(&self.mesh, rows as u64);
+        memory::leaves_that_fit(self.settings.max_memory, used, per_leaf)
     }
 
     /// Splits the marked leaves and whatever the 2:1 balance then needs;

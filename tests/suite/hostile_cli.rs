@@ -3,6 +3,7 @@
 //! leaves every previous output as it was (defect 2), messages state a reason
 //! once, and `compare` refuses a reference that does not fit (defect 13).
 
+use super::cli_run::{fresh_folder, radiosity, stderr};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -20,23 +21,7 @@ const QUICK: [&str; 8] = [
 
 /// A fresh, empty folder for one test.
 fn folder(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("hostile_cli")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn radiosity(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args(args)
-        .output()
-        .expect("the radiosity binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    fresh_folder("hostile_cli", name)
 }
 
 /// Asserts a clean refusal: exit code 1 (not a panic's 101), no panic

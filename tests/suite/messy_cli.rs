@@ -3,11 +3,11 @@
 //! checked before loading, progress as plain lines when standard error is not
 //! a terminal. Fixtures are built in code and written as glTF.
 
+use super::cli_run::{fresh_folder, radiosity, stderr};
 use super::stress_scenes::{downward_quad, room, v};
 use radiosity::math::Rgb;
 use radiosity::scene::{Scene, SceneBuilder};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// Settings that make a small room solve take well under a second.
 const QUICK: [&str; 8] = [
@@ -21,24 +21,9 @@ const QUICK: [&str; 8] = [
     "0",
 ];
 
+/// A fresh, empty folder for one test.
 fn folder(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("messy_cli")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn radiosity(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args(args)
-        .output()
-        .expect("the radiosity binary runs")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    fresh_folder("messy_cli", name)
 }
 
 /// A grey room, with a light flush with its ceiling when `lit` (left as an
