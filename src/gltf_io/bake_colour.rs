@@ -135,6 +135,7 @@ mod tests {
             reflectance: rho,
             base_texture: None,
             emission,
+            emissive_texture: None,
             double_sided: false,
         }
     }

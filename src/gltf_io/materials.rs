@@ -1,9 +1,10 @@
 //! glTF materials as diffuse materials: reflectance from `baseColorFactor` (times the
 //! mean of its texture, if it decodes, which the material also keeps so that
-//! each element gets the texture over its own footprint) times `1 - metallic`, emitted radiance from `emissiveFactor` times
-//! `KHR_materials_emissive_strength` (times the mean of the emissive texture, if it
-//! decodes). Textures are decoded only for materials that some triangle primitive
-//! of the imported scene uses.
+//! each element gets the texture over its own footprint) times `1 - metallic`,
+//! emitted radiance from `emissiveFactor` times `KHR_materials_emissive_strength`
+//! (times the mean of the emissive texture, if it decodes, likewise kept for
+//! each element's footprint). Textures are decoded only for materials that some
+//! triangle primitive of the imported scene uses.
 
 use super::document::Document;
 use super::gltf_error;
@@ -80,7 +81,14 @@ pub(super) fn convert_materials(
                 Ok(image) => {
                     reflectance = reflectance * image.mean();
                     let pointer = format!("{base}/pbrMetallicRoughness/baseColorTexture");
-                    texture = Some(texture_use(doc, &pointer, info, image, factor, options));
+                    texture = Some(texture_use(
+                        doc,
+                        &pointer,
+                        info,
+                        image,
+                        factor,
+                        options.max_reflectance,
+                    ));
                 }
                 Err(Unusable::Ignored(why)) => warnings.push(format!(
                     "material '{name}': base colour texture ignored ({why}); using baseColorFactor alone"
@@ -104,9 +112,18 @@ pub(super) fn convert_materials(
         )
         .unwrap_or(1.0);
         let mut radiance = Rgb(factor) * strength;
+        let mut emissive_texture = None;
         if let Some(info) = m.emissive_texture.as_ref().filter(|_| in_use) {
             match images.for_texture(info.index.value()) {
-                Ok(image) => radiance = radiance * image.mean(),
+                Ok(image) => {
+                    // The texture holds radiance; elements take exitance.
+                    let exitance = radiance * std::f64::consts::PI;
+                    radiance = radiance * image.mean();
+                    let pointer = format!("{base}/emissiveTexture");
+                    emissive_texture = (exitance.max_band() > 0.0).then(|| {
+                        texture_use(doc, &pointer, info, image, exitance, f64::INFINITY)
+                    });
+                }
                 Err(Unusable::Ignored(why)) => warnings.push(format!(
                     "material '{name}': emissive texture ignored ({why}); using emissiveFactor alone"
                 )),
@@ -121,7 +138,19 @@ pub(super) fn convert_materials(
         let mut material = Material::from_radiance(&name, reflectance, radiance)
             .map_err(|e| in_file(path, i, e))?;
         material.double_sided = m.double_sided || options.double_sided;
+        if let (Some(b), Some(e)) = (&texture, &emissive_texture) {
+            if b.texcoord != e.texcoord {
+                warnings.push(format!(
+                    "material '{name}': its emissive texture reads TEXCOORD_{} and its base \
+                     colour texture TEXCOORD_{}; one set per surface is kept, so the emission \
+                     is the emissive texture's mean",
+                    e.texcoord, b.texcoord
+                ));
+                emissive_texture = None;
+            }
+        }
         material.base_texture = texture.map(Arc::new);
+        material.emissive_texture = emissive_texture.map(Arc::new);
         out.push(material);
     }
     if !clamped.is_empty() {
@@ -204,6 +233,7 @@ pub(super) fn default_material() -> Material {
         reflectance: Rgb::splat(DEFAULT_GREY),
         base_texture: None,
         emission: Rgb::ZERO,
+        emissive_texture: None,
         double_sided: false,
     }
 }

@@ -223,7 +223,7 @@ pub(super) fn add_mesh_instance(
 }
 
 /// The texture coordinates per vertex of a primitive whose material has a
-/// base-colour texture (the set the texture reads), or `None`: no texture, or
+/// base-colour or emissive texture (the set it reads), or `None`: no texture, or
 /// no such set (a warning: the material's mean reflectance is used).
 fn texture_coordinates(
     src: &Source,
@@ -232,10 +232,12 @@ fn texture_coordinates(
     here: &str,
     scene: &mut Scene,
 ) -> Result<Option<Vec<DVec2>>> {
+    // The importer keeps an emissive texture only when it reads the same set
+    // as the base colour's, so either names the set the surface carries.
     let Some(texture) = scene
         .materials
         .get(material as usize)
-        .and_then(|m| m.base_texture.as_ref())
+        .and_then(|m| m.base_texture.as_ref().or(m.emissive_texture.as_ref()))
     else {
         return Ok(None);
     };
@@ -248,10 +250,10 @@ fn texture_coordinates(
         // many primitives without coordinates would otherwise repeat it.
         let name = &scene.materials[material as usize].name;
         let warning = format!(
-            "material '{name}': its base colour texture reads TEXCOORD_{set}, which some \
-             of its primitives (first {here}) lack; they take the texture's mean"
+            "material '{name}': its textures read TEXCOORD_{set}, which some of its \
+             primitives (first {here}) lack; they take the textures' means"
         );
-        let prefix = format!("material '{name}': its base colour texture reads");
+        let prefix = format!("material '{name}': its textures read");
         if !scene.warnings.iter().any(|w| w.starts_with(&prefix)) {
             scene.warnings.push(warning);
         }

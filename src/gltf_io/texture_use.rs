@@ -3,7 +3,6 @@
 //! modes and filter, read from the texture reference and its sampler.
 
 use super::document::Document;
-use super::options::LoadOptions;
 use super::precise::{number, numbers};
 use super::textures::LinearImage;
 use crate::math::Rgb;
@@ -14,14 +13,14 @@ use std::sync::Arc;
 const NEAREST: f64 = 9728.0;
 
 /// The texture the reference at JSON `pointer` (a `textureInfo`) describes,
-/// showing `image`, its texels times `factor`.
+/// showing `image`, its texels times `factor`, each band at most `max_value`.
 pub(super) fn texture_use(
     doc: &Document,
     pointer: &str,
     info: &gltf_json::texture::Info,
     image: Arc<LinearImage>,
     factor: Rgb,
-    options: &LoadOptions,
+    max_value: f64,
 ) -> Texture {
     let ext = format!("{pointer}/extensions/KHR_texture_transform");
     let offset = numbers::<2>(&doc.raw, &format!("{ext}/offset")).unwrap_or([0.0, 0.0]);
@@ -48,6 +47,6 @@ pub(super) fn texture_use(
         transform: uv_transform(offset, rotation, scale),
         texcoord,
         factor,
-        max_reflectance: options.max_reflectance,
+        max_value,
     }
 }

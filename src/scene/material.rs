@@ -3,6 +3,7 @@
 use super::Texture;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
+use glam::DVec2;
 use std::sync::Arc;
 
 /// A Lambertian material.
@@ -17,8 +18,14 @@ pub struct Material {
     /// The base-colour texture: each element of a surface with texture
     /// coordinates gets the texture's mean over its footprint.
     pub base_texture: Option<Arc<Texture>>,
-    /// Emitted exitance E = pi * L_e per band (W/m^2 in the scene's units), >= 0.
+    /// Emitted exitance E = pi * L_e per band (W/m^2 in the scene's units), >= 0:
+    /// with an emissive texture, its mean over the whole image.
     pub emission: Rgb,
+    /// The emissive texture, its texels times the exitance factor (pi times
+    /// `emissiveFactor` times the emissive strength): each element of a
+    /// surface with texture coordinates emits the texture's mean over its
+    /// footprint.
+    pub emissive_texture: Option<Arc<Texture>>,
     /// Whether the source material was marked double-sided (informational: the
     /// importer has already duplicated such surfaces back to back).
     pub double_sided: bool,
@@ -34,6 +41,7 @@ impl Material {
             reflectance,
             base_texture: None,
             emission: radiance * std::f64::consts::PI,
+            emissive_texture: None,
             double_sided: false,
         };
         m.validate()?;
@@ -82,6 +90,27 @@ impl Material {
             )));
         }
         Ok(())
+    }
+
+    /// The reflectance at texture coordinates `uv` (of the set the surface
+    /// carries): the base-colour texture there, or the material's reflectance
+    /// without a texture or coordinates.
+    #[must_use]
+    pub fn reflectance_at(&self, uv: Option<DVec2>) -> Rgb {
+        match (&self.base_texture, uv) {
+            (Some(t), Some(uv)) => t.value_at(uv),
+            _ => self.reflectance,
+        }
+    }
+
+    /// The emitted exitance at texture coordinates `uv`: the emissive texture
+    /// there, or the material's emission without a texture or coordinates.
+    #[must_use]
+    pub fn emission_at(&self, uv: Option<DVec2>) -> Rgb {
+        match (&self.emissive_texture, uv) {
+            (Some(t), Some(uv)) => t.value_at(uv),
+            _ => self.emission,
+        }
     }
 
     /// True when the material emits in any band.

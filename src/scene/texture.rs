@@ -75,8 +75,9 @@ pub struct Texture {
     /// What each texel is multiplied by: the base colour factor times
     /// `1 - metallic`.
     pub factor: Rgb,
-    /// The largest reflectance a band may take (the importer's clamp).
-    pub max_reflectance: f64,
+    /// The largest value a band may take: the importer's reflectance clamp
+    /// for a base-colour texture, infinity for an emissive one.
+    pub max_value: f64,
 }
 
 /// Samples along each axis of an element's footprint: 8 x 8 on a quad cell,
@@ -87,10 +88,11 @@ pub struct Texture {
 pub const FOOTPRINT_SAMPLES: u32 = 8;
 
 impl Texture {
-    /// The reflectance at texture coordinates `uv` (before the transform):
-    /// the filtered texel times the factor, each band clamped to the maximum.
+    /// The value (reflectance, or exitance for an emissive texture) at texture
+    /// coordinates `uv` (before the transform): the filtered texel times the
+    /// factor, each band clamped to the maximum.
     #[must_use]
-    pub fn reflectance_at(&self, uv: DVec2) -> Rgb {
+    pub fn value_at(&self, uv: DVec2) -> Rgb {
         let p = self.transform.transform_point2(uv);
         let texel = if self.nearest {
             self.nearest_texel(p)
@@ -99,7 +101,7 @@ impl Texture {
         };
         Rgb((texel * self.factor)
             .0
-            .map(|r| r.clamp(0.0, self.max_reflectance)))
+            .map(|r| r.clamp(0.0, self.max_value)))
     }
 
     /// The mean reflectance over a quad footprint whose texture coordinates
@@ -119,7 +121,7 @@ impl Texture {
                     let t = (f64::from(j) + 0.5) * step;
                     let bottom = corners[0].lerp(corners[1], s);
                     let top = corners[3].lerp(corners[2], s);
-                    sum += self.reflectance_at(bottom.lerp(top, t));
+                    sum += self.value_at(bottom.lerp(top, t));
                     count += 1;
                 }
             }
@@ -138,7 +140,7 @@ impl Texture {
                         }
                         let s = (f64::from(i) + d[0]) * step;
                         let t = (f64::from(j) + d[1]) * step;
-                        sum += self.reflectance_at(o + a * s + b * t);
+                        sum += self.value_at(o + a * s + b * t);
                         count += 1;
                     }
                 }
@@ -211,7 +213,7 @@ mod tests {
             transform: DMat3::IDENTITY,
             texcoord: 0,
             factor: Rgb::ONE,
-            max_reflectance: 1.0,
+            max_value: 1.0,
         }
     }
 

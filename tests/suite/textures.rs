@@ -32,7 +32,7 @@ fn checker() -> Texture {
         transform: DMat3::IDENTITY,
         texcoord: 0,
         factor: Rgb::ONE,
-        max_reflectance: 1.0,
+        max_value: 1.0,
     }
 }
 
