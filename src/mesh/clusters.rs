@@ -20,12 +20,16 @@
 //!   the material;
 //! - every member's normal lies within [`MAX_CLUSTER_ANGLE_DEGREES`] of the
 //!   seed's;
-//! - the cluster's bounding box diagonal stays at most the patch size.
+//! - the cluster's bounding box diagonal stays at most the patch size;
+//! - on an emissive texture, only surfaces whose emission is even join, and
+//!   only with neighbours of like emission (see `emission_grid`).
 //!
 //! Clusters grow breadth first from the lowest-numbered surface not yet in
 //! one, so the result depends on the scene alone.
 
-use crate::scene::Scene;
+use super::emission_grid::{emissive_texture, is_even, largest_difference, EVEN_EMISSION};
+use crate::math::Rgb;
+use crate::scene::{Scene, EMISSION_DEPTH};
 use glam::DVec3;
 use std::collections::{HashMap, VecDeque};
 
@@ -44,10 +48,20 @@ const SMALL: f64 = 0.5;
 /// surfaces. Surfaces in no cluster are patches (or lattices of patches) of
 /// their own.
 pub(crate) fn face_clusters(scene: &Scene, patch_size: f64) -> Vec<Vec<u32>> {
+    // A surface whose emission varies within it is cut finer on its own;
+    // the rest of a textured emitter joins only neighbours of like emission.
+    let emission: Vec<Option<Rgb>> = scene
+        .surfaces
+        .iter()
+        .map(|s| emissive_texture(scene, s).map(|t| t.mean_over_refined(&s.uv, EMISSION_DEPTH)))
+        .collect();
     let small: Vec<bool> = scene
         .surfaces
         .iter()
-        .map(|s| longest_edge(&s.vertices) < SMALL * patch_size)
+        .map(|s| {
+            longest_edge(&s.vertices) < SMALL * patch_size
+                && emissive_texture(scene, s).is_none_or(|t| is_even(s, t, patch_size))
+        })
         .collect();
     let edges = directed_edges(scene, &small);
     let min_cos = MAX_CLUSTER_ANGLE_DEGREES.to_radians().cos();
@@ -81,6 +95,7 @@ pub(crate) fn face_clusters(scene: &Scene, patch_size: f64) -> Vec<Vec<u32>> {
                     if other.material != first.material
                         || other.object != first.object
                         || other.normal.dot(first.normal) < min_cos
+                        || !like_emission(emission[seed], emission[t])
                     {
                         continue;
                     }
@@ -102,6 +117,17 @@ pub(crate) fn face_clusters(scene: &Scene, patch_size: f64) -> Vec<Vec<u32>> {
         }
     }
     clusters
+}
+
+/// True when two surfaces' emissions (from an emissive texture, else
+/// `None`) are close enough for one patch.
+fn like_emission(a: Option<Rgb>, b: Option<Rgb>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => {
+            largest_difference(a, b) <= EVEN_EMISSION * a.max_band().max(b.max_band())
+        }
+        _ => true,
+    }
 }
 
 /// A vertex as exact bits: facets of one tessellated mesh share their
@@ -148,8 +174,9 @@ fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Rgb;
-    use crate::scene::SceneBuilder;
+    use crate::gltf_io::LinearImage;
+    use crate::scene::{SceneBuilder, Texture, Wrap};
+    use glam::{DMat3, DVec2};
     use std::f64::consts::TAU;
 
     /// A cylinder of `sides` facets and `rings` rings, radius 1, height 2,
@@ -170,6 +197,61 @@ mod tests {
             }
         }
         b.build().unwrap()
+    }
+
+    /// A strip of `n` 0.1 m quads along x facing up, its texture coordinates
+    /// `u = x / (0.1 n)`, under an emissive texture dark on the left half
+    /// and bright on the right (two texels, nearest).
+    fn glowing_strip(n: usize) -> Scene {
+        let mut b = SceneBuilder::new("strip");
+        let m = b.material("glow", Rgb::ZERO, Rgb::splat(1.0)).unwrap();
+        b.object("strip");
+        let at = |i: usize, z: f64| DVec3::new(0.1 * i as f64, 0.0, z);
+        for i in 0..n {
+            b.polygon(m, &[at(i, 0.0), at(i, 0.1), at(i + 1, 0.1), at(i + 1, 0.0)])
+                .unwrap();
+        }
+        let mut scene = b.build().unwrap();
+        scene.materials[m as usize].emissive_texture = Some(std::sync::Arc::new(Texture {
+            image: std::sync::Arc::new(LinearImage {
+                width: 2,
+                height: 1,
+                texels: vec![[0.0; 3], [4.0; 3]],
+            }),
+            wrap: [Wrap::ClampToEdge; 2],
+            nearest: true,
+            transform: DMat3::IDENTITY,
+            texcoord: 0,
+            factor: Rgb::ONE,
+            max_value: f64::INFINITY,
+        }));
+        let u = |i: usize| i as f64 / n as f64;
+        for (i, surface) in scene.surfaces.iter_mut().enumerate() {
+            let uv = [(u(i), 0.0), (u(i), 1.0), (u(i + 1), 1.0), (u(i + 1), 0.0)]
+                .map(|(a, b)| DVec2::new(a, b));
+            *surface = surface.clone().with_uv(&uv);
+        }
+        scene
+    }
+
+    #[test]
+    fn clusters_on_an_emissive_texture_keep_bright_and_dark_apart() {
+        // Ten quads: 0-4 dark, 5-9 bright; at 2 m patches the whole strip
+        // would fit in one cluster.
+        let scene = glowing_strip(10);
+        let clusters = face_clusters(&scene, 2.0);
+        assert_eq!(
+            clusters,
+            vec![(0..5).collect::<Vec<u32>>(), (5..10).collect()]
+        );
+        // Nine quads: the middle one straddles the texel edge, so it emits
+        // unevenly and stays a patch of its own.
+        let scene = glowing_strip(9);
+        let clusters = face_clusters(&scene, 2.0);
+        assert_eq!(
+            clusters,
+            vec![(0..4).collect::<Vec<u32>>(), (5..9).collect()]
+        );
     }
 
     #[test]

@@ -60,6 +60,9 @@ pub struct Element {
     /// Diffuse reflectance: its surface's, or for a textured surface the
     /// texture's mean over this element's footprint.
     pub reflectance: Rgb,
+    /// Emitted exitance: its surface's, or for a surface with an emissive
+    /// texture the texture's mean over this element's footprint.
+    pub emission: Rgb,
 }
 
 impl Element {

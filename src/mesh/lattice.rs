@@ -3,7 +3,7 @@
 
 use super::cell::{Cell, Probe, MAX_DEPTH};
 use crate::math::Rgb;
-use crate::scene::{Surface, Texture};
+use crate::scene::{Surface, Texture, EMISSION_DEPTH};
 use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 use std::collections::HashMap;
@@ -87,9 +87,18 @@ pub struct SurfaceLattice {
     pub first_root: u32,
     /// Lattice extent along each axis (`L` for both axes of a triangle).
     pub extent: (u32, u32),
-    /// The base-colour texture and the surface's texture coordinates per
-    /// vertex, when it has both: its elements' reflectances come from them.
-    pub texture: Option<(Arc<Texture>, SmallVec<[DVec2; 4]>)>,
+    /// The surface's texture coordinates per vertex, or empty: its textures
+    /// are then seen through their means (the material's values).
+    pub uv: SmallVec<[DVec2; 4]>,
+    /// The base-colour texture, when the surface has coordinates for it: its
+    /// elements' reflectances come from it.
+    pub texture: Option<Arc<Texture>>,
+    /// The emissive texture, when the surface has coordinates for it: its
+    /// elements' emissions come from it.
+    pub emissive_texture: Option<Arc<Texture>>,
+    /// What the emissive texture's values are multiplied by: 1, or the power
+    /// of two the solve scales every emission by (see `pipeline::scale`).
+    pub emission_scale: f64,
 }
 
 impl SurfaceLattice {
@@ -154,7 +163,10 @@ impl SurfaceLattice {
                 grid,
                 first_root,
                 extent,
+                uv: SmallVec::new(),
                 texture: None,
+                emissive_texture: None,
+                emission_scale: 1.0,
             },
             cells,
         )
@@ -181,7 +193,10 @@ impl SurfaceLattice {
     /// [`SurfaceLattice::position`] (`None` without a texture).
     #[must_use]
     pub fn uv(&self, p: (u32, u32)) -> Option<DVec2> {
-        let (_, uv) = self.texture.as_ref()?;
+        let uv = &self.uv;
+        if uv.len() != self.vertices.len() {
+            return None;
+        }
         let s = f64::from(p.0) / f64::from(self.extent.0);
         let t = f64::from(p.1) / f64::from(self.extent.1);
         Some(if uv.len() == 4 {
@@ -195,12 +210,34 @@ impl SurfaceLattice {
     /// texture, else the texture's mean over the cell's footprint.
     #[must_use]
     pub fn cell_reflectance(&self, cell: &Cell) -> Rgb {
-        let Some((texture, _)) = &self.texture else {
-            return self.reflectance;
-        };
-        let corners: SmallVec<[DVec2; 4]> =
-            cell.corners().iter().filter_map(|c| self.uv(*c)).collect();
-        texture.mean_over(&corners)
+        match &self.texture {
+            Some(texture) => texture.mean_over(&self.cell_uv(cell)),
+            None => self.reflectance,
+        }
+    }
+
+    /// The emission of an element on `cell`: the material's without an
+    /// emissive texture, else the texture's mean over the cell's footprint
+    /// (times the solve's emission scale).
+    #[must_use]
+    pub fn cell_emission(&self, cell: &Cell) -> Rgb {
+        match &self.emissive_texture {
+            Some(texture) => {
+                texture.mean_over_refined(&self.cell_uv(cell), EMISSION_DEPTH) * self.emission_scale
+            }
+            None => self.emission,
+        }
+    }
+
+    /// True when the surface's elements differ in emission.
+    #[must_use]
+    pub fn has_emission_texture(&self) -> bool {
+        self.emissive_texture.is_some()
+    }
+
+    /// Texture coordinates of a cell's corners.
+    pub(crate) fn cell_uv(&self, cell: &Cell) -> SmallVec<[DVec2; 4]> {
+        cell.corners().iter().filter_map(|c| self.uv(*c)).collect()
     }
 
     /// World polygon of a cell.

@@ -7,6 +7,7 @@
 mod cell;
 pub mod clusters;
 mod element;
+mod emission_grid;
 mod lattice;
 mod locate;
 mod shading;
@@ -96,7 +97,15 @@ impl Mesh {
             let material = scene.material_of(surface);
             // Counted before the cells are made: a tiny patch size would
             // otherwise allocate billions of them before the check.
-            let needed = lattice::patch_count(surface, patch_size);
+            // A surface with an emissive texture is cut finer where its
+            // emission varies (cluster members are single small patches).
+            let size = match emission_grid::emissive_texture(scene, surface) {
+                Some(texture) if cluster_of[si].is_none() => {
+                    emission_grid::resolving_patch_size(surface, texture, patch_size)
+                }
+                _ => patch_size,
+            };
+            let needed = lattice::patch_count(surface, size);
             if mesh.patches.len() as u64 + needed > max_patches as u64 {
                 return Err(Error::Limit(format!(
                     "more than {max_patches} patches at patch size {patch_size} m \
@@ -107,14 +116,14 @@ impl Mesh {
                 surface,
                 material.reflectance,
                 material.emission,
-                patch_size,
+                size,
                 mesh.top_roots.len() as u32,
             );
             let mut lattice = lattice;
-            if let Some(texture) = &material.base_texture {
-                if surface.uv.len() == surface.vertices.len() {
-                    lattice.texture = Some((texture.clone(), surface.uv.clone()));
-                }
+            if surface.uv.len() == surface.vertices.len() {
+                lattice.uv = surface.uv.clone();
+                lattice.texture = material.base_texture.clone();
+                lattice.emissive_texture = material.emissive_texture.clone();
             }
             mesh.surfaces.push(lattice);
             for cell in cells {
@@ -167,6 +176,7 @@ impl Mesh {
             area: polygon_area(&polygon),
             centroid: polygon_centroid(&polygon),
             reflectance: lattice.cell_reflectance(&cell),
+            emission: lattice.cell_emission(&cell),
         })
     }
 
@@ -298,32 +308,53 @@ impl Mesh {
     /// footprint, which refinement below it does not change).
     #[must_use]
     pub fn patch_reflectance(&self, p: u32) -> Rgb {
+        self.patch_value(
+            p,
+            |s| s.texture.is_some(),
+            |s| s.reflectance,
+            |e| e.reflectance,
+        )
+    }
+
+    /// Emission of a patch: its surface's, or on a surface with an emissive
+    /// texture the area-weighted mean of its roots'.
+    #[must_use]
+    pub fn patch_emission(&self, p: u32) -> Rgb {
+        self.patch_value(
+            p,
+            SurfaceLattice::has_emission_texture,
+            |s| s.emission,
+            |e| e.emission,
+        )
+    }
+
+    /// A material value of patch `p`: its surface's (`of_surface`) unless a
+    /// root lies on a surface where the value varies (`varies`), then the
+    /// area-weighted mean of its roots' (`of_element`).
+    fn patch_value(
+        &self,
+        p: u32,
+        varies: impl Fn(&SurfaceLattice) -> bool,
+        of_surface: impl Fn(&SurfaceLattice) -> Rgb,
+        of_element: impl Fn(&Element) -> Rgb,
+    ) -> Rgb {
         let patch = &self.patches[p as usize];
-        let textured = patch.roots.iter().any(|&k| {
-            self.surfaces[self.elements[k].surface as usize]
-                .texture
-                .is_some()
-        });
-        if !textured {
-            return self.surfaces[patch.surface as usize].reflectance;
+        let surface = &self.surfaces[patch.surface as usize];
+        let lattice_of = |k: &ElementKey| &self.surfaces[self.elements[*k].surface as usize];
+        if !patch.roots.iter().any(|k| varies(lattice_of(k))) {
+            return of_surface(surface);
         }
         let mut sum = Rgb::ZERO;
         let mut area = 0.0;
         for &k in &patch.roots {
             let e = &self.elements[k];
-            sum += e.reflectance * e.area;
+            sum += of_element(e) * e.area;
             area += e.area;
         }
         if area > 0.0 {
             sum / area
         } else {
-            self.surfaces[patch.surface as usize].reflectance
+            of_surface(surface)
         }
-    }
-
-    /// Emission of a patch's surface.
-    #[must_use]
-    pub fn patch_emission(&self, p: u32) -> Rgb {
-        self.surfaces[self.patches[p as usize].surface as usize].emission
     }
 }

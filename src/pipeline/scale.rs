@@ -75,6 +75,17 @@ impl EmissionScale {
                 }
             }
             lattice.emission = kept;
+            if lattice.has_emission_texture() {
+                lattice.emission_scale = times_pow2(1.0, -scale.exponent);
+            }
+        }
+        if !scale.is_one() {
+            let Mesh {
+                elements, surfaces, ..
+            } = mesh;
+            for e in elements.values_mut() {
+                e.emission = surfaces[e.surface as usize].cell_emission(&e.cell);
+            }
         }
         if !dropped.is_empty() {
             warnings.push(format!(
@@ -107,7 +118,8 @@ impl EmissionScale {
     }
 
     /// Brings everything a finished solve holds in radiosity or power units
-    /// back to the scene's scale: the mesh's emissions, the radiosities, the
+    /// back to the scene's scale: the mesh's emissions (surfaces' and
+    /// elements'), the radiosities, the
     /// patch system's emissions and the figures.
     pub(crate) fn restore_solution(
         self,
@@ -121,6 +133,10 @@ impl EmissionScale {
         }
         for s in &mut mesh.surfaces {
             s.emission = self.restore_rgb(s.emission);
+            s.emission_scale = 1.0;
+        }
+        for e in mesh.elements.values_mut() {
+            e.emission = self.restore_rgb(e.emission);
         }
         radiosity.map_values(|v| self.restore_rgb(v));
         for e in &mut system.emission {

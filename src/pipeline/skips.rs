@@ -122,7 +122,10 @@ impl RowPlan {
             grey: skips.grey
                 && gathering
                 && mesh.surfaces.iter().all(|s| {
-                    s.texture.is_none() && s.reflectance.is_grey() && s.emission.is_grey()
+                    s.texture.is_none()
+                        && s.emissive_texture.is_none()
+                        && s.reflectance.is_grey()
+                        && s.emission.is_grey()
                 }),
         };
         plan.patches_changed(mesh);

@@ -35,7 +35,7 @@ pub(crate) fn mark_for_split(
         .iter()
         .map(|&k| {
             let e = &mesh.elements[k];
-            (radiosity.element(k) - mesh.surfaces[e.surface as usize].emission).max_band()
+            (radiosity.element(k) - e.emission).max_band()
         })
         .fold(0.0, f64::max);
     let mut marks = Marks::default();

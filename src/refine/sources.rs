@@ -22,9 +22,7 @@ pub(crate) fn mark_sources(
         .elements
         .iter()
         .filter(|(_, e)| e.is_leaf())
-        .map(|(k, e)| {
-            (radiosity.element(k) - mesh.surfaces[e.surface as usize].emission).max_band()
-        })
+        .map(|(k, e)| (radiosity.element(k) - e.emission).max_band())
         .fold(0.0, f64::max);
     if reference <= 0.0 {
         return Vec::new();

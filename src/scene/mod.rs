@@ -24,7 +24,7 @@ pub use material::Material;
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::{Overlaps, COPLANAR_GAP};
 pub use surface::{Surface, MAX_COORDINATE};
-pub use texture::{uv_transform, Texture, Wrap, FOOTPRINT_SAMPLES};
+pub use texture::{uv_transform, Texture, Wrap, EMISSION_DEPTH, FOOTPRINT_SAMPLES, SHARP_CONTRAST};
 
 use glam::DVec3;
 use serde::Serialize;

@@ -105,7 +105,6 @@ pub(crate) fn gather_with(
         .enumerate()
         .map(|(i, &k)| {
             let e = &mesh.elements[k];
-            let lattice = &mesh.surfaces[e.surface as usize];
             let entries = form_factors.entries(k);
             // A receiver that takes no part in the balance gathers by its
             // row as it is.
@@ -141,10 +140,10 @@ pub(crate) fn gather_with(
                 Some(direct) => h + direct.irradiance(k),
             };
             let radiosity = if options.grey {
-                let (rho, emission) = (e.reflectance.0[0], lattice.emission.0[0]);
+                let (rho, emission) = (e.reflectance.0[0], e.emission.0[0]);
                 Rgb::splat(emission + rho * h_all.0[0])
             } else {
-                lattice.emission + e.reflectance * h_all
+                e.emission + e.reflectance * h_all
             };
             (radiosity, h, to_rowless)
         })
@@ -153,8 +152,7 @@ pub(crate) fn gather_with(
     for (&k, (value, h, to_rowless)) in leaves.iter().zip(&results) {
         radiosity.set_element(k, *value);
         let e = &mesh.elements[k];
-        let lattice = &mesh.surfaces[e.surface as usize];
-        totals.emitted += lattice.emission * e.area;
+        totals.emitted += e.emission * e.area;
         totals.absorbed += (Rgb::ONE - e.reflectance) * *h * e.area;
         if let Some(direct) = options.direct {
             // What punctual lights deliver counts as emitted into the scene.

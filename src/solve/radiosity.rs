@@ -24,7 +24,7 @@ impl Radiosity {
     pub fn emitted(mesh: &Mesh) -> Self {
         let mut elements = SecondaryMap::with_capacity(mesh.elements.len());
         for (k, e) in &mesh.elements {
-            elements.insert(k, mesh.surfaces[e.surface as usize].emission);
+            elements.insert(k, e.emission);
         }
         let patches = (0..mesh.patches.len() as u32)
             .map(|p| mesh.patch_emission(p))

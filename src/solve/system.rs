@@ -68,7 +68,7 @@ pub(crate) fn scene_is_closed(
 ) -> bool {
     is_closed(leaves.iter().map(|&k| {
         let e = &mesh.elements[k];
-        let emits = mesh.surfaces[e.surface as usize].emission != Rgb::ZERO;
+        let emits = e.emission != Rgb::ZERO;
         let view = form_factors.view(k).unwrap_or_default();
         (e.area, view, emits)
     }))

@@ -10,6 +10,7 @@ mod clusters;
 mod common;
 mod converge;
 mod determinism;
+mod emissive_textures;
 mod enclosures;
 mod energy;
 mod ferren;

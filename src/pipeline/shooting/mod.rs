@@ -195,7 +195,7 @@ impl Solver for Shooting<'_> {
         let mut emitted = Rgb::ZERO;
         for k in mesh.leaves() {
             let e = &mesh.elements[k];
-            emitted += mesh.surfaces[e.surface as usize].emission * e.area;
+            emitted += e.emission * e.area;
         }
         if let Some(direct) = &ws.direct {
             // What punctual lights deliver counts as emitted into the scene.

@@ -99,10 +99,9 @@ pub(crate) fn settle(
     let (mut emitted, mut taken) = (Rgb::ZERO, Rgb::ZERO);
     for (i, &k) in receivers.leaves.iter().enumerate() {
         let e = &mesh.elements[k];
-        let surface = &mesh.surfaces[e.surface as usize];
         let w = receivers.areas[i] * receivers.exposure[i];
         let h = state.irradiance.get(k).copied().unwrap_or(Rgb::ZERO);
-        emitted += surface.emission * w;
+        emitted += e.emission * w;
         if let Some(hd) = state.direct_irradiance(k) {
             // Reflected punctual light is emission to the exchange.
             emitted += e.reflectance * hd * w;

@@ -334,12 +334,11 @@ impl ShootingState {
         h: Rgb,
     ) {
         let e = &mesh.elements[key];
-        let s = &mesh.surfaces[e.surface as usize];
         let h_all = match self.direct_irradiance(key) {
             None => h,
             Some(hd) => h + hd,
         };
-        radiosity.set_element(key, s.emission + e.reflectance * h_all);
+        radiosity.set_element(key, e.emission + e.reflectance * h_all);
         self.irradiance.insert(key, h);
     }
 
