@@ -1,5 +1,8 @@
 //! Choosing points on emitters: a surface in proportion to its emitted power
-//! (area times the sum of its bands), then a point uniformly by area on it.
+//! (area times the sum of the bands of its mean exitance), then a point
+//! uniformly by area on it. The estimator weighs the point by the exitance
+//! there (an emissive texture's value), which keeps light sampling unbiased
+//! wherever the mean is positive, i.e. wherever a texel can be.
 
 use super::geometry::SurfaceGeometry;
 use super::sampling::Cdf;

@@ -1,17 +1,21 @@
 //! One path: an unbiased single-sample estimate of the radiosity at a point.
 //!
-//! For a diffuse point x on surface s,
-//! `B(x) = E_s + rho_s H(x)` with the irradiance `H(x) = integral L_in cos dw`,
-//! and a front hit y carries `L = B(y)/pi = E_y/pi + rho_y H(y)/pi`. So
+//! For a diffuse point x,
+//! `B(x) = E(x) + rho(x) H(x)` with the irradiance `H(x) = integral L_in cos dw`,
+//! and a front hit y carries `L = B(y)/pi = E(y)/pi + rho(y) H(y)/pi`. So
 //!
-//! `H(x) = integral (E_y/pi) cos dw  +  integral (rho_y H(y)/pi) cos dw`.
+//! `H(x) = integral (E(y)/pi) cos dw  +  integral (rho(y) H(y)/pi) cos dw`.
+//!
+//! Reflectance and exitance are taken at each point (a textured surface's
+//! texel there, see the `textures` source), both where a path starts or
+//! lands and at the point a light sample picks on an emitter.
 //!
 //! The first (direct) integral is estimated with both a light sample and a
 //! cosine-distributed direction, combined by multiple importance sampling with the
-//! balance heuristic (Veach & Guibas 1995). Each weighted term is then at most E_y,
+//! balance heuristic (Veach & Guibas 1995). Each weighted term is then at most E(y),
 //! so per-path values stay bounded even at concave corners, where a light sample
 //! alone has unbounded variance. The second integral uses the same cosine
-//! direction: its estimate is `rho_y H(y)`, continued recursively from y. A ray
+//! direction: its estimate is `rho(y) H(y)`, continued recursively from y. A ray
 //! that meets a back face, or nothing, carries no light and ends the path.
 
 use super::rng::Rng;
@@ -31,9 +35,9 @@ impl Reference {
         settings: &ReferenceSettings,
         rng: &mut Rng,
     ) -> Rgb {
-        let mut value = self.emission[surface as usize];
-        // The weight that H at the current vertex carries in B(x).
-        let mut weight = self.reflectance[surface as usize];
+        // The weight that H at the current vertex carries in B(x) starts as
+        // the reflectance there.
+        let (mut value, mut weight) = self.shades[surface as usize].at(position);
         let mut surface = surface;
         let mut position = position;
         let mut bounce = 0u32;
@@ -49,12 +53,14 @@ impl Reference {
             if !hit.front {
                 break;
             }
-            value += weight * self.direction_sample_term(hit.surface, dir, normal, hit.t);
+            let hit_position = origin + dir * hit.t;
+            let (emission, reflectance) = self.shades[hit.surface as usize].at(hit_position);
+            value += weight * self.direction_sample_term(hit.surface, emission, dir, normal, hit.t);
             if bounce >= settings.max_bounces {
                 break;
             }
             bounce += 1;
-            weight = weight * self.reflectance[hit.surface as usize];
+            weight = weight * reflectance;
             if bounce > settings.min_bounces_before_roulette {
                 // Continue with probability q and divide by it: unbiased.
                 let q = weight.max_band().min(1.0);
@@ -64,7 +70,7 @@ impl Reference {
                 weight *= 1.0 / q;
             }
             surface = hit.surface;
-            position = origin + dir * hit.t;
+            position = hit_position;
         }
         value
     }
@@ -95,7 +101,8 @@ impl Reference {
         }
         let light_density = emitters.area_density(light.surface) * distance_squared / cos_there;
         let cosine_density = cos_here / PI;
-        self.emission[light.surface as usize] * (cos_here / PI / (light_density + cosine_density))
+        let emission = self.shades[light.surface as usize].emission_at(light.position);
+        emission * (cos_here / PI / (light_density + cosine_density))
     }
 
     /// The irradiance at `origin` (on `surface`, facing `normal`) from every
@@ -130,8 +137,16 @@ impl Reference {
     }
 
     /// The cosine-direction half of the direct term, for a ray along `dir` from a
-    /// point with normal `normal` that meets the front of `hit_surface` at `t`.
-    fn direction_sample_term(&self, hit_surface: u32, dir: DVec3, normal: DVec3, t: f64) -> Rgb {
+    /// point with normal `normal` that meets the front of `hit_surface` at `t`,
+    /// where the exitance is `emission`.
+    fn direction_sample_term(
+        &self,
+        hit_surface: u32,
+        emission: Rgb,
+        dir: DVec3,
+        normal: DVec3,
+        t: f64,
+    ) -> Rgb {
         let Some(emitters) = &self.emitters else {
             return Rgb::ZERO;
         };
@@ -143,6 +158,6 @@ impl Reference {
         let cos_there = -dir.dot(self.geometry[hit_surface as usize].normal);
         let light_density = density * t * t / cos_there;
         let cosine_density = cos_here / PI;
-        self.emission[hit_surface as usize] * (cos_here / PI / (light_density + cosine_density))
+        emission * (cos_here / PI / (light_density + cosine_density))
     }
 }

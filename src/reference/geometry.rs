@@ -185,6 +185,11 @@ impl SurfaceGeometry {
         (height.abs(), point - self.normal * height)
     }
 
+    /// The vertices projected onto the plane, in the surface's order.
+    pub(crate) fn vertices(&self) -> &[DVec3] {
+        &self.vertices[..self.count]
+    }
+
     /// Axis-aligned bounds of the (projected) vertices.
     pub(crate) fn bounds(&self) -> (DVec3, DVec3) {
         let v = &self.vertices[..self.count];

@@ -54,6 +54,18 @@
 //! are traced together, with reflectance as per-band path weights. Details in
 //! the `estimator` source.
 //!
+//! # Textures
+//!
+//! A surface with texture coordinates whose material has a base-colour or
+//! emissive texture reflects and emits the texture's value at each point
+//! (per texel, filtered as the texture says), at the texture coordinates the
+//! solver's lattice gives that point (linear on triangles, bilinear on quads).
+//! Emitters are chosen for light samples by their mean power (area times the
+//! material's mean exitance) and a point uniformly by area on them; the
+//! sample's weight uses the exitance at that point, so light sampling stays
+//! unbiased. Object means remain area means of radiosity. Surfaces without
+//! texture coordinates or textures use the material's constants, as before.
+//!
 //! # Scale
 //!
 //! Ray origins are moved off their surface along the front normal by
@@ -103,6 +115,7 @@ mod sampling;
 mod settings;
 mod stats;
 mod surface_means;
+mod textures;
 
 pub use points::{sample_points, SurfacePoint, LOCATE_TOLERANCE};
 pub use settings::ReferenceSettings;
@@ -116,6 +129,7 @@ use emitters::Emitters;
 use geometry::{SurfaceGeometry, Tolerances};
 use glam::DVec3;
 use surface_means::ObjectArea;
+use textures::Shade;
 
 /// Paths per unit of parallel work. Fixed, so that the reduction order (and so
 /// the result) does not depend on the number of threads.
@@ -125,8 +139,8 @@ const CHUNK_PATHS: u64 = 512;
 /// emitter table. Build it once per scene.
 pub struct Reference {
     geometry: Vec<SurfaceGeometry>,
-    reflectance: Vec<Rgb>,
-    emission: Vec<Rgb>,
+    /// Per surface: reflectance and emission, constant or per point.
+    shades: Vec<Shade>,
     objects: Vec<ObjectArea>,
     emitters: Option<Emitters>,
     /// Punctual lights, sampled by next-event estimation.
@@ -162,8 +176,7 @@ impl Reference {
             m.validate()?;
         }
         scene.check_lights()?;
-        let mut reflectance = Vec::with_capacity(geometry.len());
-        let mut emission = Vec::with_capacity(geometry.len());
+        let mut shades = Vec::with_capacity(geometry.len());
         let mut members = vec![Vec::new(); scene.objects.len()];
         for (i, s) in scene.surfaces.iter().enumerate() {
             let Some(m) = scene.materials.get(s.material as usize) else {
@@ -181,8 +194,7 @@ impl Reference {
                 )));
             };
             list.push(i as u32);
-            reflectance.push(m.reflectance);
-            emission.push(m.emission);
+            shades.push(Shade::new(m, s, &geometry[i]));
         }
         let objects = members
             .into_iter()
@@ -204,11 +216,11 @@ impl Reference {
         let diameter = (hi - lo).length();
         let tolerances = Tolerances::new(diameter, lo.abs().max(hi.abs()).max_element());
         let accel = Accel::new(&geometry, lo, hi, tolerances);
+        let emission: Vec<Rgb> = shades.iter().map(Shade::mean_emission).collect();
         let emitters = Emitters::new(&geometry, &emission);
         Ok(Reference {
             geometry,
-            reflectance,
-            emission,
+            shades,
             objects,
             emitters,
             lights: scene.lights.clone(),

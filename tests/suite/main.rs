@@ -32,6 +32,7 @@ mod penumbra_metrics;
 mod probe;
 mod progressive;
 mod random_scenes;
+mod reference_textures;
 mod scale;
 mod scale_scene;
 mod skips;
