@@ -39,4 +39,5 @@ mod skips;
 mod stability;
 mod stress_scenes;
 mod substructuring;
+mod textured_room;
 mod textures;
