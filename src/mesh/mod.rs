@@ -10,6 +10,7 @@ mod element;
 mod lattice;
 mod locate;
 mod shading;
+mod texels;
 
 pub(crate) use cell::Probe;
 pub use cell::{Cell, MAX_DEPTH};
@@ -17,6 +18,7 @@ pub use element::{Element, ElementKey, Patch};
 pub(crate) use lattice::PatchGrid;
 pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity};
+pub use texels::{element_irradiance, ShadingTexels, TexelSurface};
 
 use crate::error::{Error, Result};
 use crate::math::{polygon_area, polygon_centroid, Rgb};

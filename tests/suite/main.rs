@@ -37,4 +37,5 @@ mod skips;
 mod stability;
 mod stress_scenes;
 mod substructuring;
+mod texture_images;
 mod textures;
