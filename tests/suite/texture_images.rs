@@ -7,7 +7,7 @@
 
 use glam::{DMat3, DVec2, DVec3};
 use radiosity::analytic::point_to_polygon;
-use radiosity::gltf_io::{write_baked, BakeColour, LinearImage};
+use radiosity::gltf_io::{load_baked, write_baked, BakeColour, ImportLimits, LinearImage};
 use radiosity::math::Rgb;
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, HdrImage};
@@ -473,5 +473,35 @@ fn untextured_bakes_carry_no_texture_coordinates() {
         for prim in mesh.primitives() {
             assert!(prim.get(&gltf::Semantic::TexCoords(0)).is_none());
         }
+    }
+}
+
+#[test]
+fn textured_bakes_read_back_render_like_the_solution() {
+    let scene = checkered();
+    let sol = solve(&scene);
+    let direct = render_floor(&sol);
+    for (colour, name) in [
+        (BakeColour::Radiosity, "back_radiosity.glb"),
+        (BakeColour::Light, "back_light.gltf"),
+    ] {
+        let path = scratch(name);
+        write_baked(&scene, &sol.shading_mesh(), colour, &path).unwrap();
+        let baked = load_baked(&path, &ImportLimits::default()).unwrap();
+        assert!(baked.mesh.texels.is_some(), "{colour}");
+        assert!(baked.warnings.is_empty(), "{:?}", baked.warnings);
+        let image = render::render(&baked.mesh, &camera(), SIDE, SIDE).unwrap();
+        // f32 colours and 8-bit texels: within 1 %, but for pixels on a check
+        // edge, where f32 coordinates may pick the texel across it.
+        let (mut off, mut lit) = (0, 0);
+        for (p, q) in direct.pixels.iter().zip(&image.pixels) {
+            if p[0] > 0.0 {
+                lit += 1;
+                off += usize::from((q[0] / p[0] - 1.0).abs() > 0.01);
+            }
+        }
+        eprintln!("{colour}: {off} of {lit} pixels off the solution's image by more than 1 %");
+        assert!(lit > SIDE as usize * SIDE as usize / 2);
+        assert!(off * 200 < lit, "{off} of {lit}");
     }
 }
