@@ -18,7 +18,7 @@ pub use element::{Element, ElementKey, Patch};
 pub(crate) use lattice::PatchGrid;
 pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity};
-pub use texels::{element_irradiance, ShadingTexels, TexelSurface};
+pub use texels::{ShadingTexels, TexelSurface};
 
 use crate::error::{Error, Result};
 use crate::math::{polygon_area, polygon_centroid, Rgb};

@@ -56,7 +56,7 @@ pub struct ShadingTexels {
 /// (reflectance above 0). An unknown band is 0. Never negative: `B - E` that
 /// rounding took below 0 counts as 0.
 #[must_use]
-pub fn element_irradiance(b: Rgb, emission: Rgb, reflectance: Rgb) -> (Rgb, [bool; 3]) {
+fn element_irradiance(b: Rgb, emission: Rgb, reflectance: Rgb) -> (Rgb, [bool; 3]) {
     let mut h = Rgb::ZERO;
     let mut known = [false; 3];
     for k in 0..3 {
