@@ -23,6 +23,7 @@ fn quad(corners: [DVec3; 4], values: [Rgb; 4]) -> ShadedMesh {
         positions: corners.to_vec(),
         values: values.to_vec(),
         triangles: vec![[0, 1, 2], [0, 2, 3]],
+        texels: None,
     }
 }
 
@@ -255,6 +256,7 @@ fn triangle_crossing_the_camera_plane_shows_its_visible_part() {
         positions: vec![a, b, c],
         values: vec![va, vb, vc],
         triangles: vec![[0, 1, 2]],
+        texels: None,
     };
     // The same triangle cut by hand at depth 0.25, 7/16 of the way from A.
     let t = 0.4375;
@@ -262,6 +264,7 @@ fn triangle_crossing_the_camera_plane_shows_its_visible_part() {
         positions: vec![a, a + (b - a) * t, a + (c - a) * t],
         values: vec![va, va + (vb - va) * t, va + (vc - va) * t],
         triangles: vec![[0, 1, 2]],
+        texels: None,
     };
     let cam = camera(90.0);
     let img = render(&whole, &cam, 64, 64).unwrap();

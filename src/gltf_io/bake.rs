@@ -1,23 +1,25 @@
 //! [`write_baked`]: a solution as glTF 2.0 with per-vertex radiosity.
 
 use super::bake_colour::{scale_for, BakeColour, SCALE_KEY};
+use super::bake_texture::{kept_textures, TextureWriter};
 use super::export::{
     check_exportable, export_cameras, export_material, finish, is_binary, new_root, output_error,
     use_extension, EMISSIVE_STRENGTH,
 };
 use super::export_geometry::{GeometryWriter, VertexStreams};
-use super::precise::scalar;
+use super::precise::{array, scalar};
 use crate::error::Result;
 use crate::math::Rgb;
 use crate::mesh::ShadingMesh;
 use crate::output::Outputs;
-use crate::scene::{Material, Scene};
+use crate::scene::{Material, Scene, Texture};
 use gltf_json::material::{
     EmissiveFactor, PbrBaseColorFactor, PbrMetallicRoughness, StrengthFactor,
 };
 use gltf_json::{Mesh, Node, Value};
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::Arc;
 
 const UNLIT: &str = "KHR_materials_unlit";
 
@@ -43,6 +45,8 @@ struct Baked {
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
     colours: Vec<Rgb>,
+    /// `TEXCOORD_0` (transformed) when the material's texture is kept.
+    texcoords: Option<Vec<[f32; 2]>>,
     indices: Vec<u32>,
     max: f64,
 }
@@ -69,6 +73,19 @@ struct Baked {
 ///   [`BakeColour::Light`] all primitives share one scale and the materials are
 ///   the scene's own, exactly as [`write_scene`](super::write_scene) writes them,
 ///   plus `NORMAL`s for lit viewers.
+/// - Textured surfaces (see [`ShadingMesh::texels`]): a material's base-colour
+///   texture is kept (image, sampler, `TEXCOORD_0` per vertex with the
+///   texture transform applied; see `bake_texture.rs`) and `COLOR_0` holds
+///   the irradiance `H` interpolated smoothly, so that `baseColorTexture *
+///   baseColorFactor * COLOR_0 * radiosityScale` is the drawn radiosity
+///   `rho(texel) H` in both modes ([`BakeColour::Radiosity`] writes the
+///   texture's factor as `baseColorFactor` of the unlit material). Emission
+///   cannot be added to that product by an unlit material: a textured
+///   material that emits is baked in [`BakeColour::Radiosity`] as an
+///   untextured one (radiosity per vertex, the texture dropped); in
+///   [`BakeColour::Light`] its emission stays on the material as the mean
+///   `emissiveFactor`, as for untextured ones. Emissive textures are not
+///   kept: their detail is lost, their mean remains.
 /// - `asset.extras.radiosity` records the colour mode and the formula.
 ///
 /// [`load_baked`](super::load_baked) reads such a file back into a
@@ -111,13 +128,22 @@ pub fn stage_baked(
     check_exportable(scene).map_err(|m| output_error(path, m))?;
     check_shading(scene, shading).map_err(|m| output_error(path, m))?;
 
+    let kept = kept_textures(scene, shading, colour);
     let groups = group_triangles(scene, shading);
     let baked: Vec<Vec<Baked>> = groups
         .iter()
         .map(|object| {
             object
                 .iter()
-                .map(|g| bake_group(scene, shading, colour, g))
+                .map(|g| {
+                    bake_group(
+                        scene,
+                        shading,
+                        colour,
+                        g,
+                        kept[g.material as usize].as_ref(),
+                    )
+                })
                 .collect()
         })
         .collect();
@@ -133,11 +159,28 @@ pub fn stage_baked(
 
     let mut root = new_root();
     let mut precise: Vec<(String, Value)> = Vec::new();
+    let mut geometry = GeometryWriter { bin: Vec::new() };
+    let mut textures = TextureWriter::default();
     for (i, m) in scene.materials.iter().enumerate() {
-        let material = match colour {
+        let mut material = match colour {
             BakeColour::Light => export_material(i, m, &mut precise),
             BakeColour::Radiosity => unlit_white(m),
         };
+        if let Some(t) = &kept[i] {
+            let pbr = &mut material.pbr_metallic_roughness;
+            pbr.base_color_texture = Some(
+                textures
+                    .reference(&mut root, &mut geometry, t)
+                    .map_err(|m| output_error(path, m))?,
+            );
+            let f = t.factor.0;
+            pbr.base_color_factor =
+                PbrBaseColorFactor([f[0] as f32, f[1] as f32, f[2] as f32, 1.0]);
+            precise.push((
+                format!("/materials/{i}/pbrMetallicRoughness/baseColorFactor"),
+                array(&[f[0], f[1], f[2], 1.0]),
+            ));
+        }
         if material
             .extensions
             .as_ref()
@@ -151,7 +194,6 @@ pub fn stage_baked(
         root.materials.push(material);
     }
 
-    let mut geometry = GeometryWriter { bin: Vec::new() };
     let mut nodes = Vec::new();
     let mut summary = BakeSummary {
         vertices: 0,
@@ -172,6 +214,7 @@ pub fn stage_baked(
                 positions: &b.positions,
                 normals: (colour == BakeColour::Light).then_some(&b.normals[..]),
                 colours: Some(&colours),
+                texcoords: b.texcoords.as_deref(),
             };
             primitives
                 .push(geometry.triangle_primitive(&mut root, &streams, &b.indices, g.material));
@@ -264,6 +307,22 @@ fn check_shading(scene: &Scene, shading: &ShadingMesh) -> std::result::Result<()
             shading.radiosity[v].0
         ));
     }
+    if let Some(t) = &shading.texels {
+        if t.irradiance.len() != n || t.uv.len() != n {
+            return Err(format!(
+                "the display mesh is inconsistent: {n} positions, {} irradiances, {} texture \
+                 coordinates",
+                t.irradiance.len(),
+                t.uv.len()
+            ));
+        }
+        let bad = |v: usize| !(t.irradiance[v].is_finite() && t.uv[v].is_finite());
+        if let Some(v) = (0..n).find(|&v| bad(v)) {
+            return Err(format!(
+                "display vertex {v} has a non-finite irradiance or texture coordinates"
+            ));
+        }
+    }
     Ok(())
 }
 
@@ -286,14 +345,24 @@ fn group_triangles(scene: &Scene, shading: &ShadingMesh) -> Vec<Vec<Group>> {
 }
 
 /// The vertices of one group, numbered in order of first use, with their
-/// unscaled colours and their surface's normal.
-fn bake_group(scene: &Scene, shading: &ShadingMesh, colour: BakeColour, g: &Group) -> Baked {
+/// unscaled colours and their surface's normal; with the material's `texture`
+/// kept, the colour is the irradiance and the texture coordinates come along.
+fn bake_group(
+    scene: &Scene,
+    shading: &ShadingMesh,
+    colour: BakeColour,
+    g: &Group,
+    texture: Option<&Arc<Texture>>,
+) -> Baked {
     let material: &Material = &scene.materials[g.material as usize];
     let mut number: HashMap<u32, u32> = HashMap::new();
+    // `kept_textures` keeps a texture only where the display mesh has texels.
+    let texels = texture.and_then(|t| Some((t, shading.texels.as_ref()?)));
     let mut out = Baked {
         positions: Vec::new(),
         normals: Vec::new(),
         colours: Vec::new(),
+        texcoords: texels.map(|_| Vec::new()),
         indices: Vec::with_capacity(3 * g.triangles.len()),
         max: 0.0,
     };
@@ -302,7 +371,14 @@ fn bake_group(scene: &Scene, shading: &ShadingMesh, colour: BakeColour, g: &Grou
         for v in shading.triangles[t] {
             let k = *number.entry(v).or_insert_with(|| {
                 let p = shading.positions[v as usize];
-                let c = colour.colour_of(shading.radiosity[v as usize], material);
+                let c = match (texels, &mut out.texcoords) {
+                    (Some((t, x)), Some(texcoords)) => {
+                        let uv = t.transform.transform_point2(x.uv[v as usize]);
+                        texcoords.push([uv.x as f32, uv.y as f32]);
+                        x.irradiance[v as usize]
+                    }
+                    _ => colour.colour_of(shading.radiosity[v as usize], material),
+                };
                 out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
                 out.normals.push(normal.as_vec3().normalize().to_array());
                 out.max = out.max.max(c.max_band());
@@ -341,11 +417,14 @@ fn description(colour: BakeColour) -> Value {
     let formula = match colour {
         BakeColour::Light => {
             "COLOR_0 * radiosityScale is the irradiance (W/m^2) per band, 0 where the \
-             base colour is 0; radiosity = baseColorFactor * COLOR_0 * radiosityScale \
-             + pi * emitted radiance (emissiveFactor * emissiveStrength)"
+             base colour is 0; radiosity = baseColorFactor (times baseColorTexture where \
+             there is one) * COLOR_0 * radiosityScale + pi * emitted radiance \
+             (emissiveFactor * emissiveStrength)"
         }
         BakeColour::Radiosity => {
-            "radiosity (exitance, W/m^2) = COLOR_0 * radiosityScale; radiance = radiosity / pi"
+            "radiosity (exitance, W/m^2) = COLOR_0 * radiosityScale, times baseColorFactor \
+             * baseColorTexture on materials with a texture (COLOR_0 then holds the \
+             irradiance); radiance = radiosity / pi"
         }
     };
     serde_json::json!({

@@ -1,7 +1,7 @@
 //! [`load_baked`]: a baked solution read back as a mesh to render from any
 //! camera, without solving again.
 
-use super::accessors::{read_colours, read_indices, read_positions};
+use super::accessors::{read_colours, read_indices, read_positions, read_texcoords};
 use super::bake_colour::{radiosity_from, SCALE_KEY};
 use super::buffers::load_buffers;
 use super::cameras::import_camera;
@@ -11,18 +11,21 @@ use super::limits::ImportLimits;
 use super::nodes::{walk, Placed};
 use super::precise::{number, numbers};
 use super::primitives::{triangle_count, triangle_mode, triangles};
+use super::texture_use::texture_use;
+use super::textures::{Images, Unusable};
 use super::{describe, gltf_error};
 use crate::error::{Error, Result};
 use crate::math::Rgb;
-use crate::render::ShadedMesh;
-use crate::scene::Camera;
-use glam::{DMat3, DVec3};
+use crate::render::{ShadedMesh, Texels};
+use crate::scene::{Camera, Material};
+use glam::{DMat3, DVec2, DVec3};
 use gltf_json::mesh::{Primitive, Semantic};
 use gltf_json::validation::Checked;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::path::Path;
 use std::rc::Rc;
+use std::sync::Arc;
 
 /// A baked solution as read back by [`load_baked`].
 #[derive(Clone, Debug, Default)]
@@ -41,11 +44,15 @@ pub struct BakedScene {
 }
 
 /// How one material turns colours into radiosity.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct BakedMaterial {
     base_colour: Rgb,
     emission: Rgb,
     unlit: bool,
+    /// With a base-colour texture: the material the renderer looks up at
+    /// every sample (the texture times the base colour factor, and the
+    /// emission unless unlit), the colours then being the light.
+    texels: Option<Arc<Material>>,
 }
 
 /// The glTF default material: white, lit, not emitting.
@@ -53,6 +60,7 @@ const DEFAULT_MATERIAL: BakedMaterial = BakedMaterial {
     base_colour: Rgb::ONE,
     emission: Rgb::ZERO,
     unlit: false,
+    texels: None,
 };
 
 /// Accessors already decoded, so that a mesh placed by many nodes is read once.
@@ -75,7 +83,13 @@ struct Cache {
 ///   material is unlit (`KHR_materials_unlit`), its emitted exitance
 ///   `pi * emissiveFactor * emissiveStrength`. That gives back the solution's
 ///   radiosity for both [`BakeColour`](super::BakeColour)s. The mesh holds
-///   radiance, radiosity / pi. Textures are ignored (with a warning).
+///   radiance, radiosity / pi.
+/// - A base-colour texture (read through its texture coordinate set, sampler
+///   and `KHR_texture_transform`) multiplies `baseColorFactor` at every
+///   sample: such primitives carry the light `radiosityScale * COLOR_0 / pi`
+///   per vertex and their material in [`ShadedMesh::texels`]. A texture that
+///   cannot be used, or a primitive without its coordinates, is ignored with
+///   a warning, as are emissive textures.
 /// - Perspective cameras are read as the scene importer reads them.
 ///
 /// # Errors
@@ -97,7 +111,8 @@ pub fn load_baked(path: &Path, limits: &ImportLimits) -> Result<BakedScene> {
     };
     let doc = parse(path, &container.json, &mut out.warnings)?;
     let buffers = load_buffers(path, &doc, container.bin, limits)?;
-    let materials = read_materials(path, &doc, &mut out.warnings)?;
+    let mut images = Images::new(&doc, &buffers, path, limits);
+    let materials = read_materials(path, &doc, &mut images, &mut out.warnings)?;
     let mut reader = Reader {
         path,
         doc: &doc,
@@ -131,10 +146,12 @@ pub fn load_baked(path: &Path, limits: &ImportLimits) -> Result<BakedScene> {
     Ok(out)
 }
 
-/// Every material's base colour, emission and unlit flag, in the file's order.
+/// Every material's base colour, emission, unlit flag and base-colour
+/// texture, in the file's order.
 fn read_materials(
     path: &Path,
     doc: &Document,
+    images: &mut Images,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<BakedMaterial>> {
     let mut out = Vec::with_capacity(doc.root.materials.len());
@@ -152,13 +169,14 @@ fn read_materials(
             &format!("{base}/extensions/KHR_materials_emissive_strength/emissiveStrength"),
         )
         .unwrap_or(1.0);
-        let material = BakedMaterial {
+        let mut material = BakedMaterial {
             base_colour: Rgb::new(rgba[0], rgba[1], rgba[2]),
             emission: Rgb(factor) * strength * PI,
             unlit: doc
                 .raw
                 .pointer(&format!("{base}/extensions/KHR_materials_unlit"))
                 .is_some(),
+            texels: None,
         };
         let usable = |c: Rgb| c.is_finite() && c.min_band() >= 0.0;
         if !usable(material.base_colour) || !usable(material.emission) {
@@ -170,9 +188,41 @@ fn read_materials(
                 ),
             ));
         }
-        if m.pbr_metallic_roughness.base_color_texture.is_some() || m.emissive_texture.is_some() {
+        if let Some(info) = &m.pbr_metallic_roughness.base_color_texture {
+            match images.for_texture(info.index.value()) {
+                Ok(image) => {
+                    let pointer = format!("{base}/pbrMetallicRoughness/baseColorTexture");
+                    let texture = texture_use(
+                        doc,
+                        &pointer,
+                        info,
+                        image,
+                        material.base_colour,
+                        f64::INFINITY,
+                    );
+                    material.texels = Some(Arc::new(Material {
+                        name: what.clone(),
+                        reflectance: material.base_colour,
+                        base_texture: Some(Arc::new(texture)),
+                        emission: if material.unlit {
+                            Rgb::ZERO
+                        } else {
+                            material.emission
+                        },
+                        emissive_texture: None,
+                        double_sided: false,
+                    }));
+                }
+                Err(Unusable::Ignored(why)) => warnings.push(format!(
+                    "{what}: base colour texture ignored ({why}); the vertex colours and \
+                     factors alone give the radiosity"
+                )),
+                Err(Unusable::Refused(e)) => return Err(e),
+            }
+        }
+        if m.emissive_texture.is_some() {
             warnings.push(format!(
-                "{what}: textures are ignored; the vertex colours and factors alone give the radiosity"
+                "{what}: emissive texture ignored; emissiveFactor alone gives the emission"
             ));
         }
         out.push(material);
@@ -285,11 +335,16 @@ impl Reader<'_> {
             }
         }
         let material = match prim.material {
-            Some(m) => *self
+            Some(m) => self
                 .materials
                 .get(m.value())
-                .ok_or_else(|| fail(format!("material {} does not exist", m.value())))?,
+                .ok_or_else(|| fail(format!("material {} does not exist", m.value())))?
+                .clone(),
             None => DEFAULT_MATERIAL,
+        };
+        let texels = match &material.texels {
+            Some(m) => self.texels(prim, m, positions.len(), here, out)?,
+            None => None,
         };
         let scale_at = format!("/meshes/{mesh_index}/primitives/{p}/extras/{SCALE_KEY}");
         let scale = match self.doc.raw.pointer(&scale_at) {
@@ -310,13 +365,18 @@ impl Reader<'_> {
                 return Ok(n);
             }
             let position = world.transform_point3(positions[v]);
-            let b = radiosity_from(
-                Rgb(colours[v]),
-                scale,
-                material.base_colour,
-                material.emission,
-                material.unlit,
-            );
+            // On a textured primitive the value is the light, which the
+            // texture (times the factor) multiplies at every sample.
+            let b = match &texels {
+                Some(_) => Rgb(colours[v]) * scale,
+                None => radiosity_from(
+                    Rgb(colours[v]),
+                    scale,
+                    material.base_colour,
+                    material.emission,
+                    material.unlit,
+                ),
+            };
             if !position.is_finite() || !b.is_finite() {
                 return Err(fail(format!(
                     "vertex {v} has a non-finite position or radiosity in world space"
@@ -326,6 +386,9 @@ impl Reader<'_> {
                 .map_err(|_| fail("more vertices than 32-bit indices can number".to_string()))?;
             out.mesh.positions.push(position);
             out.mesh.values.push(b / PI);
+            if let Some(t) = &mut out.mesh.texels {
+                t.uv.push(texels.as_ref().map_or(DVec2::ZERO, |(uv, _)| uv[v]));
+            }
             number.insert(v, n);
             Ok(n)
         };
@@ -336,8 +399,49 @@ impl Reader<'_> {
             out.mesh
                 .triangles
                 .push(if mirrored { [v[0], v[2], v[1]] } else { v });
+            if let Some(t) = &mut out.mesh.texels {
+                t.materials
+                    .push(texels.as_ref().map(|(_, m)| Arc::clone(m)));
+            }
         }
         Ok(())
+    }
+
+    /// The texture coordinates of a primitive whose material `material` has a
+    /// base-colour texture, and the material, starting the mesh's texels if
+    /// this is the first; `None` (with a warning) when the primitive lacks the
+    /// coordinate set or has fewer coordinates than positions.
+    fn texels(
+        &self,
+        prim: &Primitive,
+        material: &Arc<Material>,
+        count: usize,
+        here: &str,
+        out: &mut BakedScene,
+    ) -> Result<Option<(Vec<DVec2>, Arc<Material>)>> {
+        let set = material.base_texture.as_ref().map_or(0, |t| t.texcoord);
+        let accessor = prim
+            .attributes
+            .get(&Checked::Valid(Semantic::TexCoords(set)))
+            .map(|a| a.value());
+        let uv = match accessor.map(|a| read_texcoords(self.doc, self.buffers, a, self.limits)) {
+            Some(Ok(uv)) if uv.len() == count && uv.iter().all(|t| t.is_finite()) => uv,
+            Some(Err(m)) => return Err(gltf_error(self.path, format!("{here}: {m}"))),
+            _ => {
+                out.warnings.push(format!(
+                    "{here}: no usable TEXCOORD_{set} for its material's texture: drawn \
+                     without the texture"
+                ));
+                return Ok(None);
+            }
+        };
+        if out.mesh.texels.is_none() {
+            out.mesh.texels = Some(Texels {
+                uv: vec![DVec2::ZERO; out.mesh.positions.len()],
+                materials: vec![None; out.mesh.triangles.len()],
+            });
+        }
+        Ok(Some((uv, Arc::clone(material))))
     }
 
     fn positions(&mut self, a: usize) -> std::result::Result<Rc<Vec<DVec3>>, String> {

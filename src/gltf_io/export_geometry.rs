@@ -10,8 +10,9 @@ use gltf_json::validation::{Checked, USize64};
 use gltf_json::{Accessor, Index, Mesh, Root};
 use std::collections::BTreeMap;
 
-/// Per-vertex data of one primitive: positions, and optionally unit normals and
-/// linear RGB colours (`COLOR_0`), all of the same length.
+/// Per-vertex data of one primitive: positions, and optionally unit normals,
+/// linear RGB colours (`COLOR_0`) and texture coordinates (`TEXCOORD_0`), all
+/// of the same length.
 pub(super) struct VertexStreams<'a> {
     /// Vertex positions.
     pub positions: &'a [[f32; 3]],
@@ -19,6 +20,8 @@ pub(super) struct VertexStreams<'a> {
     pub normals: Option<&'a [[f32; 3]]>,
     /// Colours in `[0, 1]` (`COLOR_0`), if any.
     pub colours: Option<&'a [[f32; 3]]>,
+    /// Texture coordinates (`TEXCOORD_0`), if any.
+    pub texcoords: Option<&'a [[f32; 2]]>,
 }
 
 /// The binary buffer being filled, with the views and accessors that describe it.
@@ -86,6 +89,7 @@ impl GeometryWriter {
                 positions: &positions,
                 normals: None,
                 colours: None,
+                texcoords: None,
             },
             &indices,
             material,
@@ -111,6 +115,29 @@ impl GeometryWriter {
         if let Some(colours) = streams.colours {
             let a = self.vec3_accessor(root, colours, false);
             attributes.insert(Checked::Valid(Semantic::Colors(0)), a);
+        }
+        if let Some(texcoords) = streams.texcoords {
+            let bytes: Vec<u8> = texcoords
+                .iter()
+                .flatten()
+                .flat_map(|c| c.to_le_bytes())
+                .collect();
+            let view = self.view(root, &bytes, Target::ArrayBuffer);
+            let a = root.push(Accessor {
+                buffer_view: Some(view),
+                byte_offset: None,
+                count: USize64(texcoords.len() as u64),
+                component_type: Checked::Valid(GenericComponentType(ComponentType::F32)),
+                extensions: None,
+                extras: Default::default(),
+                type_: Checked::Valid(Type::Vec2),
+                min: None,
+                max: None,
+                name: None,
+                normalized: false,
+                sparse: None,
+            });
+            attributes.insert(Checked::Valid(Semantic::TexCoords(0)), a);
         }
         let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
         let index_view = self.view(root, &index_bytes, Target::ElementArrayBuffer);
@@ -175,6 +202,24 @@ impl GeometryWriter {
             name: None,
             normalized: false,
             sparse: None,
+        })
+    }
+
+    /// Appends `bytes` (an image file) to the buffer as a new view without a
+    /// target, padded to a multiple of four bytes.
+    pub(super) fn image_view(&mut self, root: &mut Root, bytes: &[u8]) -> Index<View> {
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        self.bin.resize(self.bin.len().next_multiple_of(4), 0);
+        root.push(View {
+            buffer: Index::new(0),
+            byte_length: USize64(bytes.len() as u64),
+            byte_offset: Some(USize64(offset as u64)),
+            byte_stride: None,
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            target: None,
         })
     }
 

@@ -25,6 +25,7 @@
 mod accessors;
 mod bake;
 mod bake_colour;
+mod bake_texture;
 mod baked;
 mod buffers;
 mod cameras;

@@ -193,17 +193,24 @@ impl SurfaceLattice {
     /// [`SurfaceLattice::position`] (`None` without a texture).
     #[must_use]
     pub fn uv(&self, p: (u32, u32)) -> Option<DVec2> {
-        let uv = &self.uv;
-        if uv.len() != self.vertices.len() {
+        if self.uv.len() != self.vertices.len() {
             return None;
         }
+        Some(self.map_uv(&self.uv, p))
+    }
+
+    /// The texture coordinates of a lattice point on a surface whose vertices
+    /// have coordinates `uv` (one per vertex), by the same map as
+    /// [`SurfaceLattice::position`]; 0 unless there are 3 or 4.
+    #[must_use]
+    pub fn map_uv(&self, uv: &[DVec2], p: (u32, u32)) -> DVec2 {
         let s = f64::from(p.0) / f64::from(self.extent.0);
         let t = f64::from(p.1) / f64::from(self.extent.1);
-        Some(if uv.len() == 4 {
-            uv[0].lerp(uv[1], s).lerp(uv[3].lerp(uv[2], s), t)
-        } else {
-            uv[0] + (uv[1] - uv[0]) * s + (uv[2] - uv[0]) * t
-        })
+        match uv.len() {
+            4 => uv[0].lerp(uv[1], s).lerp(uv[3].lerp(uv[2], s), t),
+            3 => uv[0] + (uv[1] - uv[0]) * s + (uv[2] - uv[0]) * t,
+            _ => DVec2::ZERO,
+        }
     }
 
     /// The reflectance of an element on `cell`: the material's without a

@@ -11,6 +11,7 @@ mod emission_grid;
 mod lattice;
 mod locate;
 mod shading;
+mod texels;
 
 pub(crate) use cell::Probe;
 pub use cell::{Cell, MAX_DEPTH};
@@ -18,6 +19,7 @@ pub use element::{Element, ElementKey, Patch};
 pub(crate) use lattice::PatchGrid;
 pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity};
+pub use texels::{ShadingTexels, TexelSurface};
 
 use crate::error::{Error, Result};
 use crate::math::{polygon_area, polygon_centroid, Rgb};

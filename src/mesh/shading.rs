@@ -7,9 +7,10 @@
 //! neighbours.
 
 use super::cell::Probe;
+use super::texels::{ShadingTexels, TexelSurface};
 use super::{ElementKey, Mesh};
 use crate::math::Rgb;
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 
 /// A lattice vertex: surface and lattice coordinates.
@@ -37,6 +38,9 @@ pub struct ShadingMesh {
     /// The scene surface each triangle lies on (parallel to `triangles`), so
     /// that exporters can group triangles by object and material.
     pub triangle_surface: Vec<u32>,
+    /// The light under the textures of textured surfaces (`None` when no
+    /// surface is textured): see [`ShadingTexels`].
+    pub texels: Option<ShadingTexels>,
 }
 
 /// One T-vertex constraint: the vertex `mid` lies halfway along the coarse edge
@@ -75,14 +79,24 @@ impl Mesh {
                 s.1 += e.area;
             }
         }
-        let mut values: HashMap<VertexId, Rgb> = sums
+        let values: HashMap<VertexId, Rgb> = sums
             .into_iter()
             .map(|(k, (sum, w))| (k, if w > 0.0 { sum / w } else { Rgb::ZERO }))
             .collect();
+        self.with_t_vertices(&leaves, values)
+    }
 
+    /// Finds the T-vertices of `leaves` and sets the value of each to the
+    /// value interpolated along the coarse edge it lies on, coarsest edges
+    /// first, from the area-weighted means `values`.
+    pub(super) fn with_t_vertices(
+        &self,
+        leaves: &[ElementKey],
+        mut values: HashMap<VertexId, Rgb>,
+    ) -> VertexRadiosity {
         let mut constraints = Vec::new();
         let mut t_vertices: HashMap<ElementKey, Vec<Vec<(u32, u32)>>> = HashMap::new();
-        for &k in &leaves {
+        for &k in leaves {
             let e = &self.elements[k];
             let probes = e.cell.edge_probes();
             let mut per_edge = Vec::with_capacity(probes.len());
@@ -165,14 +179,49 @@ impl Mesh {
     /// vertex values on both sides.
     #[must_use]
     pub fn shading_mesh(&self, vr: &VertexRadiosity) -> ShadingMesh {
-        let mut out = ShadingMesh::default();
+        self.display_mesh(vr, None)
+    }
+
+    /// [`Mesh::shading_mesh`] with the light under the textures: the vertices
+    /// also carry the irradiance `light` (from [`Mesh::vertex_irradiance`])
+    /// and their texture coordinates on the surfaces `surfaces` marks as
+    /// textured (one entry per surface of the mesh), interpolated over the
+    /// same fans.
+    #[must_use]
+    pub fn textured_shading_mesh(
+        &self,
+        vr: &VertexRadiosity,
+        light: &VertexRadiosity,
+        surfaces: &[Option<TexelSurface>],
+    ) -> ShadingMesh {
+        self.display_mesh(vr, Some((light, surfaces)))
+    }
+
+    fn display_mesh(
+        &self,
+        vr: &VertexRadiosity,
+        texels: Option<(&VertexRadiosity, &[Option<TexelSurface>])>,
+    ) -> ShadingMesh {
+        let mut out = ShadingMesh {
+            texels: texels.map(|(_, surfaces)| ShadingTexels {
+                surfaces: surfaces.to_vec(),
+                ..ShadingTexels::default()
+            }),
+            ..ShadingMesh::default()
+        };
         let mut index: HashMap<VertexId, u32> = HashMap::new();
         let mut vertex = |out: &mut ShadingMesh, id: VertexId| -> u32 {
             *index.entry(id).or_insert_with(|| {
-                out.positions
-                    .push(self.surfaces[id.0 as usize].position((id.1, id.2)));
+                let surface = &self.surfaces[id.0 as usize];
+                out.positions.push(surface.position((id.1, id.2)));
                 out.radiosity
                     .push(vr.values.get(&id).copied().unwrap_or(Rgb::ZERO));
+                if let (Some(t), Some((light, _))) = (&mut out.texels, texels) {
+                    t.irradiance
+                        .push(light.values.get(&id).copied().unwrap_or(Rgb::ZERO));
+                    let uv = t.surfaces.get(id.0 as usize).and_then(Option::as_ref);
+                    t.uv.push(uv.map_or(DVec2::ZERO, |s| surface.map_uv(&s.uv, (id.1, id.2))));
+                }
                 out.positions.len() as u32 - 1
             })
         };
@@ -191,9 +240,15 @@ impl Mesh {
             }
             let mut ring = Vec::new();
             let mut corner_sum = Rgb::ZERO;
+            let mut corner_light = Rgb::ZERO;
+            let mut corner_uv = DVec2::ZERO;
             for (i, c) in corners.iter().enumerate() {
                 let id = vertex(&mut out, (e.surface, c.0, c.1));
                 corner_sum += out.radiosity[id as usize];
+                if let Some(t) = &out.texels {
+                    corner_light += t.irradiance[id as usize];
+                    corner_uv += t.uv[id as usize];
+                }
                 ring.push(id);
                 if let Some(t) = t {
                     for m in &t[i] {
@@ -208,6 +263,12 @@ impl Mesh {
                 / corners.len() as f64;
             out.positions.push(centre);
             out.radiosity.push(corner_sum / corners.len() as f64);
+            if let Some(t) = &mut out.texels {
+                // The cell's centre is the mean of its corners under both the
+                // bilinear (quad) and the affine (triangle) lattice map.
+                t.irradiance.push(corner_light / corners.len() as f64);
+                t.uv.push(corner_uv / corners.len() as f64);
+            }
             let ci = out.positions.len() as u32 - 1;
             for i in 0..ring.len() {
                 out.triangles

@@ -322,6 +322,7 @@ impl Workspace<'_> {
             radiosity: self.radiosity,
             system,
             stats: self.stats,
+            texel_surfaces: crate::solution::texel_surfaces(self.scene),
         }
     }
 }

@@ -4,7 +4,9 @@
 //!
 //! ## Brief overview
 //!
-//! - [`ShadedMesh`]: triangles with one linear RGB *radiance* per vertex.
+//! - [`ShadedMesh`]: triangles with one linear RGB *radiance* per vertex; on
+//!   textured surfaces ([`Texels`]) the light per vertex, which the texture's
+//!   reflectance at each sample multiplies.
 //! - [`render`] / [`render_supersampled`] / [`render_with_depth`]: project a
 //!   [`ShadedMesh`] through a [`crate::scene::Camera`] into an [`HdrImage`].
 //! - [`draw_segments`] / [`draw_segments_depth_tested`]: overlay 3D line segments
@@ -47,7 +49,7 @@ pub use false_colour::false_colour;
 pub use frame::{render, render_supersampled, render_with_depth};
 pub use image::HdrImage;
 pub use lines::{draw_segments, draw_segments_depth_tested};
-pub use shaded_mesh::ShadedMesh;
+pub use shaded_mesh::{ShadedMesh, Texels};
 pub use tonemap::{
     auto_exposure, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET,
 };

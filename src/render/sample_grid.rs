@@ -17,6 +17,7 @@ use crate::math::Rgb;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::ops::Range;
+use std::sync::Arc;
 
 /// Rows per parallel work item.
 const BAND_ROWS: u32 = 16;
@@ -192,11 +193,16 @@ impl Prepared<'_> {
         let mut visit = |x: u32, y: u32| {
             let shading = shading.get_or_insert_with(|| {
                 let idx = self.vertices(t);
+                let texel = self.mesh.texels.as_ref().and_then(|x| {
+                    let material = x.materials[t].as_ref()?;
+                    Some((idx.map(|i| x.uv[i]), Arc::clone(material)))
+                });
                 TriangleShading::new(
                     self.view,
                     idx.map(|i| self.view_positions[i]),
                     idx.map(|i| self.mesh.values[i]),
                     fp.inverse_depth_range,
+                    texel,
                 )
             });
             let Some(s) = shading else {

@@ -1,10 +1,13 @@
-//! The renderer's input: triangles carrying one radiance per vertex.
+//! The renderer's input: triangles carrying one radiance per vertex, and on
+//! textured surfaces the light a texture lookup per sample multiplies.
 
 use crate::math::Rgb;
 use crate::mesh::ShadingMesh;
+use crate::scene::Material;
 use crate::{Error, Result};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// A triangle mesh with one linear RGB value per vertex, ready to render.
 ///
@@ -15,21 +18,63 @@ use std::f64::consts::PI;
 pub struct ShadedMesh {
     /// Vertex positions in world space.
     pub positions: Vec<DVec3>,
-    /// Radiance per vertex (radiosity B / pi), linear RGB.
+    /// Radiance per vertex (radiosity B / pi), linear RGB; on the triangles
+    /// of a textured material (see `texels`), the light: irradiance H / pi.
     pub values: Vec<Rgb>,
     /// Vertex indices, three per triangle.
     pub triangles: Vec<[u32; 3]>,
+    /// Texture detail, `None` when no triangle shows a texture.
+    pub texels: Option<Texels>,
+}
+
+/// Where a [`ShadedMesh`] shows textures. On a triangle with a material, the
+/// radiance drawn at a sample is `E(uv) / pi + rho(uv) * value`, with `value`
+/// (the light) and `uv` interpolated from the vertices, `rho` and `E` the
+/// material's [`reflectance_at`](Material::reflectance_at) and
+/// [`emission_at`](Material::emission_at) there.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Texels {
+    /// Texture coordinates per vertex (parallel to the positions).
+    pub uv: Vec<DVec2>,
+    /// Per triangle: the material looked up at every sample, or `None` for a
+    /// triangle that shows its interpolated values as they are.
+    pub materials: Vec<Option<Arc<Material>>>,
 }
 
 impl ShadedMesh {
     /// The radiance of a display mesh's vertex radiosities: radiosity / pi,
-    /// what a camera sees on a diffuse surface.
+    /// what a camera sees on a diffuse surface. Vertices of textured surfaces
+    /// (see [`ShadingMesh::texels`]) carry the irradiance / pi instead, and
+    /// their triangles the surface's material.
     #[must_use]
     pub fn radiance_of(shading: ShadingMesh) -> ShadedMesh {
+        let Some(light) = shading.texels else {
+            return ShadedMesh {
+                positions: shading.positions,
+                values: shading.radiosity.iter().map(|b| *b / PI).collect(),
+                triangles: shading.triangles,
+                texels: None,
+            };
+        };
+        let mut values: Vec<Rgb> = shading.radiosity.iter().map(|b| *b / PI).collect();
+        let mut materials = Vec::with_capacity(shading.triangles.len());
+        for (tri, &s) in shading.triangles.iter().zip(&shading.triangle_surface) {
+            let surface = light.surfaces.get(s as usize).and_then(Option::as_ref);
+            if surface.is_some() {
+                for &v in tri {
+                    values[v as usize] = light.irradiance[v as usize] / PI;
+                }
+            }
+            materials.push(surface.map(|t| Arc::clone(&t.material)));
+        }
         ShadedMesh {
             positions: shading.positions,
-            values: shading.radiosity.iter().map(|b| *b / PI).collect(),
+            values,
             triangles: shading.triangles,
+            texels: Some(Texels {
+                uv: light.uv,
+                materials,
+            }),
         }
     }
 
@@ -64,6 +109,23 @@ impl ShadedMesh {
                 )));
             }
         }
+        if let Some(t) = &self.texels {
+            if t.uv.len() != n || t.materials.len() != self.triangles.len() {
+                return Err(Error::Geometry(format!(
+                    "shaded mesh has {n} positions and {} triangles but {} texture \
+                     coordinates and {} triangle materials",
+                    self.triangles.len(),
+                    t.uv.len(),
+                    t.materials.len()
+                )));
+            }
+            if let Some(i) = t.uv.iter().position(|p| !p.is_finite()) {
+                return Err(Error::Geometry(format!(
+                    "shaded mesh vertex {i} has non-finite texture coordinates {}",
+                    t.uv[i]
+                )));
+            }
+        }
         Ok(())
     }
 }
@@ -77,6 +139,7 @@ mod tests {
             positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
             values: vec![Rgb::ONE; 3],
             triangles: vec![[0, 1, 2]],
+            texels: None,
         }
     }
 
@@ -108,5 +171,13 @@ mod tests {
         let mut m = one_triangle();
         m.values.pop();
         assert!(m.validate().is_err());
+        let mut m = one_triangle();
+        m.texels = Some(Texels {
+            uv: vec![DVec2::ZERO; 2],
+            materials: vec![None],
+        });
+        assert!(m.validate().is_err());
+        m.texels.as_mut().unwrap().uv.push(DVec2::NAN);
+        assert!(m.validate().unwrap_err().to_string().contains("vertex 2"));
     }
 }

@@ -4,15 +4,17 @@
 mod leaf;
 mod objects;
 mod probe;
+mod texels;
 
 pub use leaf::Leaf;
 pub(crate) use objects::object_means;
 pub use objects::ObjectRadiosity;
 pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
+pub(crate) use texels::texel_surfaces;
 
 use crate::formfactor::FormFactors;
 use crate::math::Rgb;
-use crate::mesh::{ElementKey, Mesh, ShadingMesh};
+use crate::mesh::{ElementKey, Mesh, ShadingMesh, TexelSurface};
 use crate::pipeline::SolveStats;
 use crate::render::ShadedMesh;
 use crate::scene::Scene;
@@ -26,6 +28,9 @@ pub struct Solution {
     pub(crate) radiosity: Radiosity,
     pub(crate) system: PatchSystem,
     pub(crate) stats: SolveStats,
+    /// Per scene surface, what a textured one shows; empty when no surface
+    /// is textured.
+    pub(crate) texel_surfaces: Vec<Option<TexelSurface>>,
 }
 
 impl Solution {
@@ -96,16 +101,30 @@ impl Solution {
         object_means(scene, &self.mesh, |k, _| self.radiosity.element(k))
     }
 
-    /// The crack-free display mesh with vertex radiosities.
+    /// The crack-free display mesh with vertex radiosities; on textured
+    /// surfaces (a base-colour or emissive texture and texture coordinates)
+    /// its vertices also carry the irradiance and texture coordinates
+    /// ([`ShadingMesh::texels`]), so that displays can draw the texture's
+    /// detail under smooth light.
     #[must_use]
     pub fn shading_mesh(&self) -> ShadingMesh {
         let vr = self.mesh.vertex_radiosity(|k| self.radiosity.element(k));
-        self.mesh.shading_mesh(&vr)
+        if self.texel_surfaces.iter().all(Option::is_none) {
+            return self.mesh.shading_mesh(&vr);
+        }
+        let light = self.mesh.vertex_irradiance(
+            |s| self.texel_surfaces[s as usize].is_some(),
+            |k| self.radiosity.element(k),
+        );
+        self.mesh
+            .textured_shading_mesh(&vr, &light, &self.texel_surfaces)
     }
 
     /// The display mesh with the radiance a camera sees at each vertex
     /// (radiosity / pi: the surfaces are diffuse), ready for
-    /// [`render::render`](crate::render::render).
+    /// [`render::render`](crate::render::render); on textured surfaces the
+    /// renderer looks the texture up at every sample (see
+    /// [`ShadedMesh::texels`]).
     #[must_use]
     pub fn radiance_mesh(&self) -> ShadedMesh {
         ShadedMesh::radiance_of(self.shading_mesh())

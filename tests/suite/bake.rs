@@ -272,6 +272,7 @@ fn baked_files_render_like_the_solution() {
         positions: shading.positions.clone(),
         values: shading.radiosity.iter().map(|b| *b / PI).collect(),
         triangles: shading.triangles.clone(),
+        texels: None,
     };
     let corner = Camera::look_at(
         DVec3::new(0.05, 0.5, 0.05),

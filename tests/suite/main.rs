@@ -39,5 +39,6 @@ mod skips;
 mod stability;
 mod stress_scenes;
 mod substructuring;
+mod texture_images;
 mod textured_room;
 mod textures;
