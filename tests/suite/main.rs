@@ -36,6 +36,7 @@ mod reference_textures;
 mod scale;
 mod scale_scene;
 mod skips;
+mod smooth_meshes;
 mod stability;
 mod stress_scenes;
 mod substructuring;

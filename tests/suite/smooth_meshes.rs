@@ -1,0 +1,252 @@
+//! Smooth tessellated meshes in a closed room (issue 18): a sphere and a torus
+//! of small facets under a lamp 1 mm below the ceiling. Far receivers see
+//! such meshes as facets of about a pixel; the light they send out must reach
+//! the rest of the room (reciprocity), and the per-object error against the
+//! path tracer must fall as the user makes patches smaller.
+
+use glam::DVec3;
+use radiosity::formfactor::RowState;
+use radiosity::math::Rgb;
+use radiosity::reference::{Reference, ReferenceSettings};
+use radiosity::scene::{Scene, SceneBuilder};
+use radiosity::{Settings, Solution};
+use std::f64::consts::{PI, TAU};
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+const ROOM: f64 = 2.0;
+const HEIGHT: f64 = 2.0;
+const SPHERE_CENTRE: DVec3 = DVec3::new(0.65, 0.35, 1.3);
+const SPHERE_RADIUS: f64 = 0.35;
+
+/// Adds triangle `t` of `material`, turned to face away from `inside`.
+fn facing_out(b: &mut SceneBuilder, material: u32, t: [DVec3; 3], inside: DVec3) {
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    if n.length() < 1e-12 {
+        return; // the poles' collapsed triangles
+    }
+    let centroid = (t[0] + t[1] + t[2]) / 3.0;
+    if n.dot(centroid - inside) > 0.0 {
+        b.triangle(material, t[0], t[1], t[2]).unwrap();
+    } else {
+        b.triangle(material, t[0], t[2], t[1]).unwrap();
+    }
+}
+
+/// A closed 2 m room (one red wall), a 0.4 m lamp 1 mm under the ceiling,
+/// a sphere of 32 x 16 facets resting on the floor and a torus of 32 x 16
+/// facets lying on it.
+fn smooth_room() -> Scene {
+    let (w, h) = (ROOM, HEIGHT);
+    let mut b = SceneBuilder::new("smooth meshes");
+    let white = b.material("white", Rgb::splat(0.7), Rgb::ZERO).unwrap();
+    let red = b
+        .material("red", Rgb::new(0.7, 0.15, 0.1), Rgb::ZERO)
+        .unwrap();
+    let lamp = b.material("lamp", Rgb::ZERO, Rgb::splat(10.0)).unwrap();
+    let ball = b
+        .material("ball", Rgb::new(0.6, 0.6, 0.3), Rgb::ZERO)
+        .unwrap();
+    let ring = b
+        .material("ring", Rgb::new(0.2, 0.4, 0.7), Rgb::ZERO)
+        .unwrap();
+    let walls: [(&str, u32, [DVec3; 4]); 6] = [
+        (
+            "floor",
+            white,
+            [v(0., 0., 0.), v(0., 0., w), v(w, 0., w), v(w, 0., 0.)],
+        ),
+        (
+            "ceiling",
+            white,
+            [v(0., h, 0.), v(w, h, 0.), v(w, h, w), v(0., h, w)],
+        ),
+        (
+            "wall_left",
+            red,
+            [v(0., 0., 0.), v(0., h, 0.), v(0., h, w), v(0., 0., w)],
+        ),
+        (
+            "wall_right",
+            white,
+            [v(w, 0., 0.), v(w, 0., w), v(w, h, w), v(w, h, 0.)],
+        ),
+        (
+            "wall_back",
+            white,
+            [v(0., 0., 0.), v(w, 0., 0.), v(w, h, 0.), v(0., h, 0.)],
+        ),
+        (
+            "wall_front",
+            white,
+            [v(0., 0., w), v(0., h, w), v(w, h, w), v(w, 0., w)],
+        ),
+    ];
+    for (name, m, c) in walls {
+        b.object(name);
+        b.quad(m, c[0], c[1], c[2], c[3]).unwrap();
+    }
+    let (l0, l1, y) = (0.8, 1.2, h - 0.001);
+    b.object("lamp");
+    b.quad(lamp, v(l0, y, l0), v(l1, y, l0), v(l1, y, l1), v(l0, y, l1))
+        .unwrap();
+    let (around, along) = (32, 16);
+    b.object("sphere");
+    let on_sphere = |i: usize, j: usize| {
+        let theta = PI * j as f64 / along as f64;
+        let phi = TAU * i as f64 / around as f64;
+        SPHERE_CENTRE
+            + SPHERE_RADIUS
+                * v(
+                    theta.sin() * phi.cos(),
+                    -theta.cos(),
+                    theta.sin() * phi.sin(),
+                )
+    };
+    for j in 0..along {
+        for i in 0..around {
+            let q = [
+                on_sphere(i, j),
+                on_sphere(i + 1, j),
+                on_sphere(i + 1, j + 1),
+                on_sphere(i, j + 1),
+            ];
+            facing_out(&mut b, ball, [q[0], q[1], q[2]], SPHERE_CENTRE);
+            facing_out(&mut b, ball, [q[0], q[2], q[3]], SPHERE_CENTRE);
+        }
+    }
+    b.object("torus");
+    let (centre, big, small) = (v(1.35, 0.12, 0.7), 0.3, 0.12);
+    let on_torus = |i: usize, j: usize| {
+        let u = TAU * i as f64 / around as f64;
+        let t = TAU * j as f64 / along as f64;
+        let r = big + small * t.cos();
+        centre + v(r * u.cos(), small * t.sin(), r * u.sin())
+    };
+    for j in 0..along {
+        for i in 0..around {
+            let u = TAU * (i as f64 + 0.5) / around as f64;
+            let axis = centre + v(big * u.cos(), 0.0, big * u.sin());
+            let q = [
+                on_torus(i, j),
+                on_torus(i + 1, j),
+                on_torus(i + 1, j + 1),
+                on_torus(i, j + 1),
+            ];
+            facing_out(&mut b, ring, [q[0], q[1], q[2]], axis);
+            facing_out(&mut b, ring, [q[0], q[2], q[3]], axis);
+        }
+    }
+    b.build().unwrap()
+}
+
+/// Per object of `scene` except the lamp, the leaves' total of `A_e F_eq`
+/// over the patches `q` of that object (how much of it the room sees),
+/// divided by the object's area (what it sends out: its rows sum to 1).
+fn seen_fraction(scene: &Scene, sol: &Solution, object: &str) -> f64 {
+    let mesh = sol.mesh();
+    let id = scene.objects.iter().position(|o| o.name == object).unwrap() as u32;
+    let of_object: Vec<bool> = mesh
+        .patches()
+        .iter()
+        .map(|p| scene.surfaces[p.surface as usize].object == id)
+        .collect();
+    let mut seen = 0.0;
+    for leaf in sol.leaves() {
+        if let RowState::Computed(row) = leaf.row {
+            for &(q, f) in row.entries() {
+                if of_object[q as usize] {
+                    seen += leaf.area * f64::from(f);
+                }
+            }
+        }
+    }
+    let area: f64 = mesh
+        .patches()
+        .iter()
+        .zip(&of_object)
+        .filter(|(_, o)| **o)
+        .map(|(p, _)| p.area)
+        .sum();
+    seen / area
+}
+
+fn solve(scene: &Scene, patch_size: f64) -> Solution {
+    let settings = Settings {
+        patch_size: Some(patch_size),
+        ..Settings::default()
+    };
+    radiosity::solve(scene, &settings, &|_| {}).unwrap()
+}
+
+#[test]
+fn the_room_sees_as_much_of_a_tessellated_mesh_as_the_mesh_sees_of_the_room() {
+    let scene = smooth_room();
+    for clusters in [true, false] {
+        let settings = Settings {
+            patch_size: Some(0.25),
+            face_clusters: clusters,
+            ..Settings::default()
+        };
+        let sol = radiosity::solve(&scene, &settings, &|_| {}).unwrap();
+        for object in ["sphere", "torus"] {
+            // Every facet's row sums to 1 (a closed room), so by reciprocity
+            // the room's rows hold the object's whole area. Facets of about
+            // a pixel seen from afar kept 55% (sphere) and 72% (torus) of it
+            // when a neighbour's plane alone decided their visibility.
+            let seen = seen_fraction(&scene, &sol, object);
+            eprintln!("clusters {clusters}: the room sees {seen:.4} of the {object}");
+            assert!((seen - 1.0).abs() < 0.03, "{object}: {seen}");
+        }
+        let energy = sol.stats().energy.relative_difference;
+        assert!(energy.abs() < 1e-3, "clusters {clusters}: energy {energy}");
+    }
+}
+
+#[test]
+fn per_object_error_against_the_path_tracer_falls_as_patches_shrink() {
+    let scene = smooth_room();
+    let reference = Reference::new(&scene)
+        .unwrap()
+        .object_means(&ReferenceSettings {
+            paths: 400_000,
+            seed: 17,
+            ..ReferenceSettings::default()
+        })
+        .unwrap();
+    let mut errors = Vec::new();
+    for patch_size in [0.5, 0.25, 0.125] {
+        let sol = solve(&scene, patch_size);
+        let objects = sol.object_radiosity(&scene);
+        let (mut sum, mut worst, mut n, mut worst_at) = (0.0, 0.0f64, 0, String::new());
+        for (o, r) in objects.iter().zip(&reference) {
+            if o.name == "lamp" {
+                continue;
+            }
+            for band in 0..3 {
+                let e = (o.radiosity.0[band] / r.radiosity.0[band] - 1.0).abs();
+                sum += e;
+                if e > worst {
+                    worst = e;
+                    worst_at = format!("{} band {band}", o.name);
+                }
+                n += 1;
+            }
+        }
+        let mean = sum / f64::from(n);
+        eprintln!("patch size {patch_size}: mean error {mean:.4}, worst {worst:.4} ({worst_at})");
+        errors.push((mean, worst));
+    }
+    // Each level closer than the one before, in the mean and the worst
+    // object (measured: 2.2%, 1.0%, 0.36% mean; 10%, 5.3%, 2.2% worst).
+    for k in 1..errors.len() {
+        assert!(errors[k].0 < errors[k - 1].0, "mean: {errors:?}");
+        assert!(errors[k].1 < errors[k - 1].1, "worst: {errors:?}");
+    }
+    // The finest within the issue's 0.5% mean. Its 1.5% worst is not met
+    // yet: the torus stays the worst object, too bright, for a cause not
+    // found so far.
+    assert!(errors[2].0 < 0.005, "{errors:?}");
+}
