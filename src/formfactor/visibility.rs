@@ -452,7 +452,7 @@ impl Occluders {
 /// True when the segment from `a` along unit `dir`, open at both ends (a
 /// relative margin keeps surfaces at the endpoints from counting), crosses the
 /// convex planar polygon `v` with unit `normal`.
-fn crosses(v: &[DVec3], normal: DVec3, a: DVec3, dir: DVec3, length: f64) -> bool {
+pub(crate) fn crosses(v: &[DVec3], normal: DVec3, a: DVec3, dir: DVec3, length: f64) -> bool {
     let denom = normal.dot(dir);
     if denom.abs() < 1e-15 {
         return false;

@@ -155,8 +155,6 @@ fn png_of(texture: &Texture) -> Result<Vec<u8>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Rgb;
-    use glam::DMat3;
 
     #[test]
     fn png_round_trips_8_bit_srgb_and_clamps_above_the_largest_value() {
@@ -171,17 +169,8 @@ mod tests {
         };
         let texels = vec![[decode(0) as f32, decode(128) as f32, decode(255) as f32]];
         let texture = Texture {
-            image: Arc::new(LinearImage {
-                width: 1,
-                height: 1,
-                texels,
-            }),
-            wrap: [Wrap::Repeat; 2],
-            nearest: true,
-            transform: DMat3::IDENTITY,
-            texcoord: 0,
-            factor: Rgb::ONE,
             max_value: 0.5,
+            ..Texture::nearest(1, 1, texels)
         };
         let png = png_of(&texture).unwrap();
         let back = image::load_from_memory(&png).unwrap().to_rgb8();

@@ -122,39 +122,23 @@ impl GeometryWriter {
                 .flatten()
                 .flat_map(|c| c.to_le_bytes())
                 .collect();
-            let view = self.view(root, &bytes, Target::ArrayBuffer);
-            let a = root.push(Accessor {
-                buffer_view: Some(view),
-                byte_offset: None,
-                count: USize64(texcoords.len() as u64),
-                component_type: Checked::Valid(GenericComponentType(ComponentType::F32)),
-                extensions: None,
-                extras: Default::default(),
-                type_: Checked::Valid(Type::Vec2),
-                min: None,
-                max: None,
-                name: None,
-                normalized: false,
-                sparse: None,
-            });
+            let view = self.view(root, &bytes, Some(Target::ArrayBuffer));
+            let a = root.push(accessor(
+                view,
+                texcoords.len(),
+                ComponentType::F32,
+                Type::Vec2,
+            ));
             attributes.insert(Checked::Valid(Semantic::TexCoords(0)), a);
         }
         let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-        let index_view = self.view(root, &index_bytes, Target::ElementArrayBuffer);
-        let index_accessor = root.push(Accessor {
-            buffer_view: Some(index_view),
-            byte_offset: None,
-            count: USize64(indices.len() as u64),
-            component_type: Checked::Valid(GenericComponentType(ComponentType::U32)),
-            extensions: None,
-            extras: Default::default(),
-            type_: Checked::Valid(Type::Scalar),
-            min: None,
-            max: None,
-            name: None,
-            normalized: false,
-            sparse: None,
-        });
+        let index_view = self.view(root, &index_bytes, Some(Target::ElementArrayBuffer));
+        let index_accessor = root.push(accessor(
+            index_view,
+            indices.len(),
+            ComponentType::U32,
+            Type::Scalar,
+        ));
         Primitive {
             attributes,
             extensions: None,
@@ -187,27 +171,24 @@ impl GeometryWriter {
             .flatten()
             .flat_map(|c| c.to_le_bytes())
             .collect();
-        let view = self.view(root, &bytes, Target::ArrayBuffer);
+        let view = self.view(root, &bytes, Some(Target::ArrayBuffer));
         let json = |v: [f32; 3]| Some(v.iter().map(|&c| serde_json::Value::from(c)).collect());
         root.push(Accessor {
-            buffer_view: Some(view),
-            byte_offset: None,
-            count: USize64(values.len() as u64),
-            component_type: Checked::Valid(GenericComponentType(ComponentType::F32)),
-            extensions: None,
-            extras: Default::default(),
-            type_: Checked::Valid(Type::Vec3),
             min: if bounds { json(lo) } else { None },
             max: if bounds { json(hi) } else { None },
-            name: None,
-            normalized: false,
-            sparse: None,
+            ..accessor(view, values.len(), ComponentType::F32, Type::Vec3)
         })
     }
 
     /// Appends `bytes` (an image file) to the buffer as a new view without a
     /// target, padded to a multiple of four bytes.
     pub(super) fn image_view(&mut self, root: &mut Root, bytes: &[u8]) -> Index<View> {
+        self.view(root, bytes, None)
+    }
+
+    /// Appends `bytes` to the buffer as a new view for `target`, padded to a
+    /// multiple of four bytes so that the next view starts aligned.
+    fn view(&mut self, root: &mut Root, bytes: &[u8], target: Option<Target>) -> Index<View> {
         let offset = self.bin.len();
         self.bin.extend_from_slice(bytes);
         self.bin.resize(self.bin.len().next_multiple_of(4), 0);
@@ -219,23 +200,25 @@ impl GeometryWriter {
             extensions: None,
             extras: Default::default(),
             name: None,
-            target: None,
+            target: target.map(Checked::Valid),
         })
     }
+}
 
-    /// Appends `bytes` (a multiple of four long) to the buffer as a new view.
-    fn view(&mut self, root: &mut Root, bytes: &[u8], target: Target) -> Index<View> {
-        let offset = self.bin.len();
-        self.bin.extend_from_slice(bytes);
-        root.push(View {
-            buffer: Index::new(0),
-            byte_length: USize64(bytes.len() as u64),
-            byte_offset: Some(USize64(offset as u64)),
-            byte_stride: None,
-            extensions: None,
-            extras: Default::default(),
-            name: None,
-            target: Some(Checked::Valid(target)),
-        })
+/// A tightly packed accessor of `count` elements over `view`, without bounds.
+fn accessor(view: Index<View>, count: usize, component: ComponentType, type_: Type) -> Accessor {
+    Accessor {
+        buffer_view: Some(view),
+        byte_offset: None,
+        count: USize64(count as u64),
+        component_type: Checked::Valid(GenericComponentType(component)),
+        extensions: None,
+        extras: Default::default(),
+        type_: Checked::Valid(type_),
+        min: None,
+        max: None,
+        name: None,
+        normalized: false,
+        sparse: None,
     }
 }

@@ -27,7 +27,7 @@
 //! Clusters grow breadth first from the lowest-numbered surface not yet in
 //! one, so the result depends on the scene alone.
 
-use super::emission_grid::{emissive_texture, is_even, largest_difference, EVEN_EMISSION};
+use super::emission_grid::{emissive_texture, is_even, EVEN_EMISSION};
 use crate::math::Rgb;
 use crate::scene::{Scene, EMISSION_DEPTH};
 use glam::DVec3;
@@ -124,7 +124,7 @@ pub(crate) fn face_clusters(scene: &Scene, patch_size: f64) -> Vec<Vec<u32>> {
 fn like_emission(a: Option<Rgb>, b: Option<Rgb>) -> bool {
     match (a, b) {
         (Some(a), Some(b)) => {
-            largest_difference(a, b) <= EVEN_EMISSION * a.max_band().max(b.max_band())
+            (a - b).abs().max_band() <= EVEN_EMISSION * a.max_band().max(b.max_band())
         }
         _ => true,
     }
@@ -174,9 +174,8 @@ fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gltf_io::LinearImage;
     use crate::scene::{SceneBuilder, Texture, Wrap};
-    use glam::{DMat3, DVec2};
+    use glam::DVec2;
     use std::f64::consts::TAU;
 
     /// A cylinder of `sides` facets and `rings` rings, radius 1, height 2,
@@ -213,17 +212,9 @@ mod tests {
         }
         let mut scene = b.build().unwrap();
         scene.materials[m as usize].emissive_texture = Some(std::sync::Arc::new(Texture {
-            image: std::sync::Arc::new(LinearImage {
-                width: 2,
-                height: 1,
-                texels: vec![[0.0; 3], [4.0; 3]],
-            }),
             wrap: [Wrap::ClampToEdge; 2],
-            nearest: true,
-            transform: DMat3::IDENTITY,
-            texcoord: 0,
-            factor: Rgb::ONE,
             max_value: f64::INFINITY,
+            ..Texture::nearest(2, 1, vec![[0.0; 3], [4.0; 3]])
         }));
         let u = |i: usize| i as f64 / n as f64;
         for (i, surface) in scene.surfaces.iter_mut().enumerate() {

@@ -61,13 +61,8 @@ pub(crate) fn is_even(surface: &Surface, emissive: &Texture, size: f64) -> bool 
     cells.iter().zip(&means).all(|(cell, &m)| {
         cell.children()
             .iter()
-            .all(|q| largest_difference(mean(q), m) <= EVEN_EMISSION * brightest)
+            .all(|q| (mean(q) - m).abs().max_band() <= EVEN_EMISSION * brightest)
     })
-}
-
-/// The largest difference between two colours in any band.
-pub(crate) fn largest_difference(a: Rgb, b: Rgb) -> f64 {
-    (0..3).map(|i| (a.0[i] - b.0[i]).abs()).fold(0.0, f64::max)
 }
 
 /// The emissive texture of `surface`'s material when the surface has the

@@ -235,9 +235,7 @@ impl Shade {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gltf_io::LinearImage;
     use crate::scene::Wrap;
-    use glam::DMat3;
 
     /// The lattice's bilinear map (as `SurfaceLattice::position` writes it).
     fn bilinear<T: Copy + std::ops::Add<Output = T> + std::ops::Mul<f64, Output = T>>(
@@ -298,17 +296,9 @@ mod tests {
         let mut m = Material::from_radiance("m", Rgb::splat(0.5), Rgb::splat(1.0)).unwrap();
         let texture = |texels: Vec<[f32; 3]>, max_value: f64| {
             Arc::new(Texture {
-                image: Arc::new(LinearImage {
-                    width: 2,
-                    height: 1,
-                    texels,
-                }),
                 wrap: [Wrap::ClampToEdge; 2],
-                nearest: true,
-                transform: DMat3::IDENTITY,
-                texcoord: 0,
-                factor: Rgb::ONE,
                 max_value,
+                ..Texture::nearest(2, 1, texels)
             })
         };
         let (g, plain) = geometry(&square, &[]);

@@ -89,6 +89,27 @@ pub struct Texture {
 pub const FOOTPRINT_SAMPLES: u32 = 8;
 
 impl Texture {
+    /// A texture of `width x height` linear texels (row-major, row 0 at
+    /// v = 0) shown as they are: nearest texel, tiled, no transform, read
+    /// from `TEXCOORD_0`, factor 1, values at most 1. For scenes built in
+    /// code; change the fields for anything else.
+    #[must_use]
+    pub fn nearest(width: u32, height: u32, texels: Vec<[f32; 3]>) -> Texture {
+        Texture {
+            image: Arc::new(LinearImage {
+                width,
+                height,
+                texels,
+            }),
+            wrap: [Wrap::Repeat; 2],
+            nearest: true,
+            transform: DMat3::IDENTITY,
+            texcoord: 0,
+            factor: Rgb::ONE,
+            max_value: 1.0,
+        }
+    }
+
     /// The value (reflectance, or exitance for an emissive texture) at texture
     /// coordinates `uv` (before the transform): the filtered texel times the
     /// factor, each band clamped to the maximum.
@@ -138,7 +159,7 @@ impl Texture {
     fn sample_footprint(&self, corners: &[DVec2]) -> Samples {
         let n = FOOTPRINT_SAMPLES;
         let step = 1.0 / f64::from(n);
-        let mut samples = Samples::default();
+        let mut samples = Samples::new();
         if corners.len() == 4 {
             for j in 0..n {
                 for i in 0..n {
@@ -207,23 +228,28 @@ pub const EMISSION_DEPTH: u32 = 3;
 pub const SHARP_CONTRAST: f64 = 0.25;
 
 /// A running sum of footprint samples, with their range.
-#[derive(Default)]
 struct Samples {
     sum: Rgb,
     count: u32,
-    low: Option<Rgb>,
+    low: Rgb,
     high: Rgb,
 }
 
 impl Samples {
+    fn new() -> Self {
+        Samples {
+            sum: Rgb::ZERO,
+            count: 0,
+            low: Rgb::splat(f64::INFINITY),
+            high: Rgb::ZERO,
+        }
+    }
+
     fn add(&mut self, x: Rgb) {
         self.sum += x;
         self.count += 1;
-        self.low = Some(
-            self.low
-                .map_or(x, |l| Rgb(std::array::from_fn(|i| l.0[i].min(x.0[i])))),
-        );
-        self.high = Rgb(std::array::from_fn(|i| self.high.0[i].max(x.0[i])));
+        self.low = Rgb(std::array::from_fn(|i| self.low.0[i].min(x.0[i])));
+        self.high = self.high.max(x);
     }
 
     fn mean(&self) -> Rgb {
@@ -231,9 +257,7 @@ impl Samples {
     }
 
     fn is_sharp(&self) -> bool {
-        let low = self.low.unwrap_or(Rgb::ZERO);
-        let brightest = self.high.max_band();
-        (0..3).any(|i| self.high.0[i] - low.0[i] > SHARP_CONTRAST * brightest)
+        (self.high - self.low).max_band() > SHARP_CONTRAST * self.high.max_band()
     }
 }
 
@@ -298,19 +322,7 @@ mod tests {
 
     fn checker() -> Texture {
         let (d, b) = ([0.2f32; 3], [0.8f32; 3]);
-        Texture {
-            image: Arc::new(LinearImage {
-                width: 2,
-                height: 2,
-                texels: vec![d, b, b, d],
-            }),
-            wrap: [Wrap::Repeat; 2],
-            nearest: true,
-            transform: DMat3::IDENTITY,
-            texcoord: 0,
-            factor: Rgb::ONE,
-            max_value: 1.0,
-        }
+        Texture::nearest(2, 2, vec![d, b, b, d])
     }
 
     fn square(x0: f64, y0: f64, s: f64) -> [DVec2; 4] {

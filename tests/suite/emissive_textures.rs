@@ -2,9 +2,9 @@
 //! bright square lights what faces the square as the square alone would
 //! (Howell's closed form), not as the panel's mean emission spread over it.
 
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 use radiosity::analytic::{parallel_rectangles, point_to_rectangle_corner};
-use radiosity::gltf_io::{load_scene, ImportLimits, LinearImage};
+use radiosity::gltf_io::{load_scene, ImportLimits};
 use radiosity::math::Rgb;
 use radiosity::scene::{Scene, SceneBuilder, Texture, Wrap};
 use radiosity::solution::Leaf;
@@ -41,17 +41,10 @@ fn one_bright_texel() -> Texture {
     let mut texels = vec![[0.0f32; 3]; TEXELS * TEXELS];
     texels[BRIGHT_TEXEL * TEXELS + BRIGHT_TEXEL] = [1.0; 3];
     Texture {
-        image: Arc::new(LinearImage {
-            width: TEXELS as u32,
-            height: TEXELS as u32,
-            texels,
-        }),
         wrap: [Wrap::ClampToEdge; 2],
-        nearest: true,
-        transform: DMat3::IDENTITY,
-        texcoord: 0,
         factor: Rgb::splat(EXITANCE),
         max_value: f64::INFINITY,
+        ..Texture::nearest(TEXELS as u32, TEXELS as u32, texels)
     }
 }
 

@@ -11,9 +11,9 @@
 //! or shows a real bias. Every test also checks that the wrong answer (the
 //! texture's mean instead of its texels) lies far outside that band.
 
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 use radiosity::analytic::{parallel_rectangles, point_to_rectangle_corner};
-use radiosity::gltf_io::{load_scene, ImportLimits, LinearImage};
+use radiosity::gltf_io::{load_scene, ImportLimits};
 use radiosity::math::Rgb;
 use radiosity::reference::{ProbeEstimate, Reference, ReferenceSettings, SurfacePoint};
 use radiosity::refine::RefineSettings;
@@ -43,17 +43,9 @@ fn uvs(pairs: &[(f64, f64)]) -> Vec<DVec2> {
 /// nearest texel, clamped at the edges, with factor 1 and no transform.
 fn texture(width: u32, height: u32, texels: Vec<[f32; 3]>, max_value: f64) -> Arc<Texture> {
     Arc::new(Texture {
-        image: Arc::new(LinearImage {
-            width,
-            height,
-            texels,
-        }),
         wrap: [Wrap::ClampToEdge; 2],
-        nearest: true,
-        transform: DMat3::IDENTITY,
-        texcoord: 0,
-        factor: Rgb::ONE,
         max_value,
+        ..Texture::nearest(width, height, texels)
     })
 }
 

@@ -5,13 +5,13 @@
 //! independent of the solve. What is drawn must be the texel's reflectance
 //! times that smooth light.
 
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 use radiosity::analytic::point_to_polygon;
-use radiosity::gltf_io::{load_baked, write_baked, BakeColour, ImportLimits, LinearImage};
+use radiosity::gltf_io::{load_baked, write_baked, BakeColour, ImportLimits};
 use radiosity::math::Rgb;
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, HdrImage};
-use radiosity::scene::{Camera, Scene, SceneBuilder, Texture, Wrap};
+use radiosity::scene::{Camera, Scene, SceneBuilder, Texture};
 use radiosity::{Settings, Solution};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -36,19 +36,7 @@ fn lamp() -> [DVec3; 4] {
 
 /// A 2x2 texture of `texels` (row-major, top row first), nearest texel.
 fn texture(texels: [f32; 4]) -> Texture {
-    Texture {
-        image: Arc::new(LinearImage {
-            width: 2,
-            height: 2,
-            texels: texels.iter().map(|&t| [t; 3]).collect(),
-        }),
-        wrap: [Wrap::Repeat; 2],
-        nearest: true,
-        transform: DMat3::IDENTITY,
-        texcoord: 0,
-        factor: Rgb::ONE,
-        max_value: 1.0,
-    }
+    Texture::nearest(2, 2, texels.iter().map(|&t| [t; 3]).collect())
 }
 
 fn checker() -> Texture {

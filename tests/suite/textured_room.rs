@@ -2,11 +2,10 @@
 //! light): the solver's per-object radiosity against the independent path
 //! tracer, which reads the same textures per texel (issue 16's check).
 
-use glam::{DMat3, DVec2, DVec3};
-use radiosity::gltf_io::LinearImage;
+use glam::{DVec2, DVec3};
 use radiosity::math::Rgb;
 use radiosity::reference::{Reference, ReferenceSettings};
-use radiosity::scene::{Light, Scene, SceneBuilder, Texture, Wrap};
+use radiosity::scene::{Light, Scene, SceneBuilder, Texture};
 use radiosity::solve::SolverKind;
 use radiosity::Settings;
 use std::sync::Arc;
@@ -20,19 +19,7 @@ const H: f64 = 2.5;
 
 /// A nearest-texel texture of `width x height` texels.
 fn texture(width: u32, height: u32, texels: Vec<[f32; 3]>) -> Arc<Texture> {
-    Arc::new(Texture {
-        image: Arc::new(LinearImage {
-            width,
-            height,
-            texels,
-        }),
-        wrap: [Wrap::Repeat; 2],
-        nearest: true,
-        transform: DMat3::IDENTITY,
-        texcoord: 0,
-        factor: Rgb::ONE,
-        max_value: 1.0,
-    })
+    Arc::new(Texture::nearest(width, height, texels))
 }
 
 /// A 3 x 2.5 x 3 m room facing in, a 0.8 m box on its floor, a 4 x 4

@@ -1,11 +1,11 @@
 //! Base-colour textures per element: a checkered floor lit from far above,
 //! built in code and read from glTF (KHR_texture_transform, TEXCOORD_1).
 
-use glam::{DMat3, DVec2, DVec3};
-use radiosity::gltf_io::{load_scene, ImportLimits, LinearImage};
+use glam::{DVec2, DVec3};
+use radiosity::gltf_io::{load_scene, ImportLimits};
 use radiosity::math::Rgb;
 use radiosity::refine::RefineSettings;
-use radiosity::scene::{Scene, SceneBuilder, Texture, Wrap};
+use radiosity::scene::{Scene, SceneBuilder, Texture};
 use radiosity::solve::SolverKind;
 use radiosity::{Settings, Solution};
 use std::path::{Path, PathBuf};
@@ -21,19 +21,7 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 /// A 2x2 checker of reflectances 0.2 and 0.8, nearest texel.
 fn checker() -> Texture {
     let (d, b) = ([DARK; 3], [BRIGHT; 3]);
-    Texture {
-        image: Arc::new(LinearImage {
-            width: 2,
-            height: 2,
-            texels: vec![d, b, b, d],
-        }),
-        wrap: [Wrap::Repeat; 2],
-        nearest: true,
-        transform: DMat3::IDENTITY,
-        texcoord: 0,
-        factor: Rgb::ONE,
-        max_value: 1.0,
-    }
+    Texture::nearest(2, 2, vec![d, b, b, d])
 }
 
 /// A floor `[0, 2]^2` facing up, its texture coordinates `u = x / 2`,

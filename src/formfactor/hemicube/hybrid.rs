@@ -2,6 +2,7 @@
 //! Lambert's exact formula how much.
 
 use super::{Hemicube, BACK_FACE, NOTHING};
+use crate::formfactor::visibility::crosses;
 use crate::formfactor::{point_to_polygon, EmitterVisibility, Row, Sources};
 use glam::DVec3;
 
@@ -144,29 +145,10 @@ impl Hemicube {
         // behind its front-facing neighbours' planes, and a sub-pixel facet
         // whose pixel centre a neighbour won would be lost (a sphere of
         // pixel-sized facets seen from 2 m kept 45% of its form factor).
-        !won.iter().any(|w| hides(w, eye, world))
+        let (along, length) = ((world - eye).normalize_or_zero(), (world - eye).length());
+        !won.iter()
+            .any(|w| crosses(w.corners(), w.normal, eye, along, length))
     }
-}
-
-/// True when the segment from `eye` to `target` passes through polygon `w`
-/// strictly between them (its edges excluded: a ray along the seam of two
-/// facets passes between them).
-fn hides(w: &crate::formfactor::SourcePolygon, eye: DVec3, target: DVec3) -> bool {
-    let towards = w.normal.dot(target - eye);
-    if towards == 0.0 {
-        return false;
-    }
-    // The ray eye + s (target - eye) meets the polygon's plane at s.
-    let s = w.normal.dot(w.vertices[0] - eye) / towards;
-    if !(s > 0.0 && s < 1.0 - 1e-9) {
-        return false;
-    }
-    let hit = eye + (target - eye) * s;
-    let corners = w.corners();
-    (0..corners.len()).all(|i| {
-        let (a, b) = (corners[i], corners[(i + 1) % corners.len()]);
-        (b - a).cross(hit - a).dot(w.normal) > 0.0
-    })
 }
 
 /// The largest change [`close_row`] makes to the partly hidden entries of a
