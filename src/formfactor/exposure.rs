@@ -49,6 +49,48 @@ impl Occluders {
             })
     }
 
+    /// True when at least half the rays of the fan from `eye` over the
+    /// hemisphere about unit `normal` meet a front face or nothing (ignoring
+    /// `own_surface`): the test of a point of a partly covered element (see
+    /// `contacts.rs`). Unlike [`Self::is_shut_in`], a ray or two slipping out
+    /// where a solid meets the surface at a glancing angle (a capital's rim
+    /// under its abacus) do not make a point inside the solid visible.
+    #[must_use]
+    pub(crate) fn mostly_open(
+        &self,
+        sources: &Sources,
+        eye: DVec3,
+        normal: DVec3,
+        own_surface: u32,
+    ) -> bool {
+        let (t1, t2) = normal.any_orthonormal_pair();
+        let total = 1 + RINGS.iter().map(|r| r.1).sum::<usize>();
+        let needed = total.div_ceil(2);
+        let (mut open, mut blocked) = (0, 0);
+        let mut count = |dir: DVec3| {
+            if self.first_face(sources, eye, dir, own_surface) == Some(false) {
+                blocked += 1;
+            } else {
+                open += 1;
+            }
+            open >= needed || blocked > total - needed
+        };
+        if count(normal) {
+            return open >= needed;
+        }
+        for &(elevation, n) in &RINGS {
+            let (sin_e, cos_e) = elevation.sin_cos();
+            for k in 0..n {
+                let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / n as f64;
+                let (sin_a, cos_a) = azimuth.sin_cos();
+                if count(normal * sin_e + (t1 * cos_a + t2 * sin_a) * cos_e) {
+                    return open >= needed;
+                }
+            }
+        }
+        open >= needed
+    }
+
     /// What the ray from `eye` along unit `dir` meets first: `Some(true)` a
     /// front face, `Some(false)` a back face, `None` nothing.
     fn first_face(&self, sources: &Sources, eye: DVec3, dir: DVec3, skip: u32) -> Option<bool> {

@@ -3,6 +3,7 @@
 
 mod backfaces;
 mod bvh_walk;
+mod contacts;
 mod exposure;
 mod eye;
 pub mod hemicube;

@@ -14,6 +14,9 @@ pub struct Row {
     entries: Box<[(u32, f32)]>,
     back_faces: f32,
     open: f32,
+    /// The share of the receiving element that other objects cover (shut
+    /// in where something stands on it), 0 for most.
+    covered: f32,
 }
 
 impl Row {
@@ -26,7 +29,30 @@ impl Row {
             entries: entries.into_boxed_slice(),
             back_faces: 0.0,
             open: 0.0,
+            covered: 0.0,
         }
+    }
+
+    /// This row, taken at a visible point of an element of which only the
+    /// share `visible` is not shut in, made the element's mean: every form
+    /// factor times `visible`, the shut-in rest seeing back faces only (see
+    /// `contacts.rs`).
+    #[must_use]
+    pub(crate) fn covered(self, visible: f64) -> Self {
+        let scale = |x: f32| (f64::from(x) * visible) as f32;
+        Row {
+            entries: self.entries.iter().map(|&(j, f)| (j, scale(f))).collect(),
+            back_faces: (f64::from(self.back_faces) * visible + (1.0 - visible)) as f32,
+            open: scale(self.open),
+            covered: (1.0 - visible) as f32,
+        }
+    }
+
+    /// The share of the receiving element not covered by other objects:
+    /// its form factors are its visible part's times this.
+    #[must_use]
+    pub fn visible(&self) -> f64 {
+        1.0 - f64::from(self.covered)
     }
 
     /// The same row, seeing back faces over form factor `back_faces` and

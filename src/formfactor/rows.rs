@@ -1,5 +1,6 @@
 //! Element-to-patch rows for many receivers at once, in parallel.
 
+use super::contacts::Contacts;
 use super::hemicube::{Cull, DeltaTable, Hemicube, HemicubeStats, RowRequest};
 use super::{
     element_samples, eye_lift, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility,
@@ -125,6 +126,11 @@ pub(crate) fn compute_rows_with(
         && settings.emitter_sampling != EmitterSampling::Pixels
         && settings.method == super::FormFactorMethod::Hybrid
         && !sources.emitters.is_empty();
+    // Where other objects touch a surface, the elements they cover in part.
+    let contacts = occluders
+        .as_ref()
+        .map(|o| Contacts::new(mesh, sources, o))
+        .filter(|c| !c.is_empty());
     let closed = (skips.hidden_back_faces && !exact)
         .then(|| ClosedObjects::new(mesh))
         .filter(|c| !c.is_empty());
@@ -142,7 +148,21 @@ pub(crate) fn compute_rows_with(
                 let h = element_seed(settings.seed, e.surface, &e.cell);
                 let angle = (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
                 let lift = eye_lift(lattice.normal, e.area);
-                let eye = e.centroid + lift;
+                let mut eye = e.centroid + lift;
+                let coverage = match (&contacts, &occluders) {
+                    (Some(c), Some(o)) => {
+                        let polygon = lattice.polygon(&e.cell);
+                        if c.touches(e.surface, &polygon, lattice.normal) {
+                            o.coverage(sources, &polygon, lattice.normal, e.surface, eye, lift, h)
+                        } else {
+                            None
+                        }
+                    }
+                    _ => None,
+                };
+                if let Some(c) = coverage {
+                    eye = c.eye;
+                }
                 let (row, stats) =
                     if exact {
                         let stats = HemicubeStats {
@@ -161,10 +181,13 @@ pub(crate) fn compute_rows_with(
                         let before = cube.stats;
                         let samples = if emitters_exact {
                             match settings.emitter_sampling {
-                                EmitterSampling::Element => {
+                                // Points of a partly covered element would
+                                // count the covered part twice: its row is
+                                // scaled by the visible share already.
+                                EmitterSampling::Element if coverage.is_none() => {
                                     element_samples(&lattice.polygon(&e.cell), lift)
                                 }
-                                EmitterSampling::Centre => {
+                                EmitterSampling::Centre | EmitterSampling::Element => {
                                     Samples::from_buf_and_len([(eye, 1.0); 4], 1)
                                 }
                                 EmitterSampling::Rays | EmitterSampling::Pixels => Samples::new(),
@@ -179,7 +202,7 @@ pub(crate) fn compute_rows_with(
                                 samples: &samples,
                             }
                         });
-                        let row = cube.row_for(&RowRequest {
+                        let mut row = cube.row_for(&RowRequest {
                             sources,
                             hidden_back,
                             eye,
@@ -193,6 +216,9 @@ pub(crate) fn compute_rows_with(
                                 lod: settings.level_of_detail.then_some(settings.table.n),
                             }),
                         });
+                        if let Some(c) = coverage {
+                            row = row.covered(c.visible);
+                        }
                         (row, cube.stats - before)
                     };
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;

@@ -17,6 +17,9 @@ pub struct RowView {
     pub back_faces: f64,
     /// The form factor of the part of the view where nothing lies.
     pub open: f64,
+    /// The share of the receiver that other objects cover (see
+    /// [`Row::visible`]).
+    pub covered: f64,
 }
 
 impl RowView {
@@ -27,6 +30,7 @@ impl RowView {
             sum: row.sum(),
             back_faces: row.back_faces(),
             open: row.open(),
+            covered: 1.0 - row.visible(),
         }
     }
 }

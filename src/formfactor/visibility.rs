@@ -154,7 +154,7 @@ fn summarise(bvh: &Bvh2, sources: &Sources) -> Vec<NodeSummary> {
 }
 
 /// A small hash-based random number in [0, 1) from a 64-bit state.
-fn unit(state: &mut u64) -> f64 {
+pub(super) fn unit(state: &mut u64) -> f64 {
     *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
     let mut z = *state;
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);

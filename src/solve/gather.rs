@@ -28,8 +28,20 @@ impl GatherTotals {
     /// Adds what a leaf of `area` with `radiosity` sends to back faces and out
     /// of the scene, by its row's `view`.
     pub(crate) fn add_hidden(&mut self, area: f64, radiosity: Rgb, view: RowView) {
-        self.back_faces += radiosity * (area * view.back_faces);
-        self.escaped += radiosity * (area * view.open);
+        // A leaf that other objects cover in part sends its light from its
+        // visible part, by that part's view; its row also counts the
+        // covered part as seeing back faces (see `Row::covered`).
+        let (back, open) = if view.covered > 0.0 {
+            let visible = 1.0 - view.covered;
+            (
+                ((view.back_faces - view.covered) / visible).max(0.0),
+                view.open / visible,
+            )
+        } else {
+            (view.back_faces, view.open)
+        };
+        self.back_faces += radiosity * (area * back);
+        self.escaped += radiosity * (area * open);
     }
 }
 

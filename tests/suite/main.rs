@@ -8,6 +8,7 @@ mod bake;
 mod cli_run;
 mod clusters;
 mod common;
+mod contacts;
 mod converge;
 mod determinism;
 mod emissive_textures;

@@ -201,14 +201,13 @@ impl Solver for Shooting<'_> {
             // What punctual lights deliver counts as emitted into the scene.
             emitted += direct.incident_power(mesh);
         }
-        let (mut back_faces, mut escaped) = (Rgb::ZERO, Rgb::ZERO);
+        let mut hidden = GatherTotals::default();
         for k in mesh.leaves() {
             if let Some(view) = ws.form_factors.view(k) {
-                let area = mesh.elements[k].area;
-                back_faces += ws.radiosity.element(k) * (area * view.back_faces);
-                escaped += ws.radiosity.element(k) * (area * view.open);
+                hidden.add_hidden(mesh.elements[k].area, ws.radiosity.element(k), view);
             }
         }
+        let (back_faces, escaped) = (hidden.back_faces, hidden.escaped);
         let totals = GatherTotals {
             emitted,
             absorbed: self.state.absorbed_power(mesh),
@@ -464,9 +463,11 @@ impl<'p> Shooting<'p> {
             if let Some(view) = ws.form_factors.view(*k) {
                 let seen = view.sum > 0.0;
                 self.receivers.exposed[i] = seen;
+                let visible = 1.0 - view.covered;
+                self.receivers.visible[i] = visible;
                 self.receivers.exposure[i] = match (self.closed, seen) {
                     (true, _) => view.sum,
-                    (false, true) => 1.0,
+                    (false, true) => visible,
                     (false, false) => 0.0,
                 };
             }

@@ -46,6 +46,10 @@ pub(crate) struct ShootingState {
     pub exposure: Vec<f64>,
     /// Per leaf, its weight in its patch's radiosity: area times exposure.
     weights: SecondaryMap<ElementKey, f64>,
+    /// Per leaf that other objects cover in part, its visible share: its
+    /// radiosity is its mean over its area, and its visible part stands for
+    /// it as a source (see `formfactor/contacts.rs`). Absent: 1.
+    visible: SecondaryMap<ElementKey, f64>,
     /// The scales that balance the gathering rows, once shots deliver by
     /// them (see [`ShootingState::set_balance`]).
     balance: Option<Scales>,
@@ -98,6 +102,7 @@ impl ShootingState {
             shot: vec![Rgb::ZERO; areas.len()],
             exposure: areas.clone(),
             weights,
+            visible: SecondaryMap::new(),
             balance: None,
             irradiance,
             areas,
@@ -134,9 +139,13 @@ impl ShootingState {
         receivers: &Receivers,
     ) -> Rgb {
         self.weights.clear();
+        self.visible.clear();
         for (i, &k) in receivers.leaves.iter().enumerate() {
             self.weights
                 .insert(k, receivers.areas[i] * receivers.exposure[i]);
+            if receivers.visible[i] < 1.0 {
+                self.visible.insert(k, receivers.visible[i]);
+            }
         }
         let mut change = Rgb::ZERO;
         for p in 0..mesh.patches.len() as u32 {
@@ -317,7 +326,8 @@ impl ShootingState {
         let p = e.patch as usize;
         let w = self.weights.get(key).copied().unwrap_or(e.area);
         if self.exposure[p] > 0.0 {
-            let share = db * (w / self.exposure[p]);
+            let visible = self.visible.get(key).copied().unwrap_or(1.0);
+            let share = db * (w / (self.exposure[p] * visible));
             self.radiosity[p] += share;
             self.unshot[p] += share;
         }
@@ -352,7 +362,8 @@ impl ShootingState {
             let e = &mesh.elements[k];
             let b = radiosity.element(k);
             let w = self.weights.get(k).copied().unwrap_or(e.area);
-            sum += b * w;
+            let visible = self.visible.get(k).copied().unwrap_or(1.0);
+            sum += (e.emission + (b - e.emission) / visible) * w;
             total += w;
             area_sum += b * e.area;
         }

@@ -1,0 +1,304 @@
+//! Where other objects touch a surface, and how much of a receiving element
+//! they cover.
+//!
+//! A column stands on its plinth, a bench's legs on the floor, a shaft runs
+//! into the block it carries. The part of the plinth's top under the column
+//! is shut in: it sees only the column's back faces, receives nothing and
+//! sends nothing. An element that the contact line crosses is partly shut
+//! in, and its hemi-cube, placed at its centroid, sees either the inside of
+//! the column (the whole element went black: a plinth top a column stands
+//! on in its middle lost all its light) or the room (the covered part was
+//! counted as lit).
+//!
+//! Elements the contact crosses are found from the geometry: per surface,
+//! the pieces of other polygons that lie within a thin slab about its plane
+//! and inside it (not merely on its border, where every wall meets its
+//! floor). Only for those elements, points spread evenly over the element
+//! are tested with [`Occluders::mostly_open`]; the share of them that are
+//! is the element's visible fraction, and its row is taken at a visible
+//! point (the centroid where it is visible) and scaled by that fraction (see
+//! [`Row::covered`]).
+
+use super::bvh_walk::walk;
+use super::visibility::unit;
+use super::{Occluders, Sources};
+use crate::math::{clip_in_place, polygon_area};
+use crate::mesh::Mesh;
+use glam::DVec3;
+use smallvec::SmallVec;
+
+/// A convex planar polygon.
+type Piece = SmallVec<[DVec3; 8]>;
+
+/// Points per side of the grid of test points over an element (quads), or
+/// divisions per edge (triangles): 64 points either way, so that the
+/// visible share of an element is known to a few percent.
+const SIDE: usize = 8;
+
+/// The slab about a surface's plane, and the inset of its border, relative
+/// to the surface's size: a contact nearer the border than this is the
+/// border's (a wall on the floor's edge), one farther off the plane is no
+/// contact.
+const SLAB: f64 = 1e-3;
+
+/// The pieces of other polygons that touch the inside of each surface.
+pub(crate) struct Contacts {
+    /// Per surface of the mesh: each piece with its bounding box.
+    pieces: Vec<Vec<(Piece, DVec3, DVec3)>>,
+}
+
+impl Contacts {
+    /// Finds, for every surface of `mesh`, the polygons of `sources` (other
+    /// surfaces) that reach into the slab about its plane inside its border.
+    #[must_use]
+    pub(crate) fn new(mesh: &Mesh, sources: &Sources, occluders: &Occluders) -> Self {
+        let pieces = mesh
+            .surfaces
+            .iter()
+            .enumerate()
+            .map(|(s, lattice)| {
+                let v = &lattice.vertices;
+                let n = lattice.normal;
+                let eps = SLAB * polygon_area(v).sqrt();
+                if eps <= 0.0 {
+                    return Vec::new();
+                }
+                let planes = inset_planes(v, n, eps);
+                let (lo, hi) = bounds(v);
+                let (lo, hi) = (lo - DVec3::splat(eps), hi + DVec3::splat(eps));
+                let mut found = Vec::new();
+                walk(
+                    &occluders.bvh,
+                    occluders.centre,
+                    |a, b| a.cmple(hi).all() && b.cmpge(lo).all(),
+                    |id| {
+                        let p = &sources.polygons[id];
+                        if p.surface as usize == s {
+                            return true;
+                        }
+                        let mut piece: Piece =
+                            p.vertices[..p.count as usize].iter().copied().collect();
+                        clip_in_place(&mut piece, v[0] + n * eps, -n);
+                        clip_in_place(&mut piece, v[0] - n * eps, n);
+                        for &(origin, inward) in &planes {
+                            if piece.len() < 3 {
+                                break;
+                            }
+                            clip_in_place(&mut piece, origin, inward);
+                        }
+                        if piece.len() >= 3 {
+                            let (a, b) = bounds(&piece);
+                            found.push((piece, a, b));
+                        }
+                        true
+                    },
+                );
+                found
+            })
+            .collect();
+        Contacts { pieces }
+    }
+
+    /// True when a contact of surface `surface` reaches into `polygon` (an
+    /// element of it, convex, with the surface's unit `normal`).
+    #[must_use]
+    pub(crate) fn touches(&self, surface: u32, polygon: &[DVec3], normal: DVec3) -> bool {
+        let Some(pieces) = self.pieces.get(surface as usize) else {
+            return false;
+        };
+        if pieces.is_empty() {
+            return false;
+        }
+        let (lo, hi) = bounds(polygon);
+        let pad = DVec3::splat(SLAB * polygon_area(polygon).sqrt());
+        let planes = inset_planes(polygon, normal, 0.0);
+        pieces.iter().any(|(piece, a, b)| {
+            if !(a.cmple(hi + pad).all() && b.cmpge(lo - pad).all()) {
+                return false;
+            }
+            let mut p = piece.clone();
+            for &(origin, inward) in &planes {
+                clip_in_place(&mut p, origin, inward);
+                if p.len() < 3 {
+                    return false;
+                }
+            }
+            true
+        })
+    }
+
+    /// True when no surface has a contact.
+    #[must_use]
+    pub(crate) fn is_empty(&self) -> bool {
+        self.pieces.iter().all(Vec::is_empty)
+    }
+}
+
+/// The half-spaces (a point on the plane, its unit normal pointing inward)
+/// of the convex polygon `v` (unit `normal`) moved inward by `inset`.
+fn inset_planes(v: &[DVec3], normal: DVec3, inset: f64) -> SmallVec<[(DVec3, DVec3); 4]> {
+    let centre = v.iter().copied().sum::<DVec3>() / v.len() as f64;
+    let m = v.len();
+    (0..m)
+        .filter_map(|i| {
+            let edge = v[(i + 1) % m] - v[i];
+            let inward = normal.cross(edge).try_normalize()?;
+            let inward = if inward.dot(centre - v[i]) < 0.0 {
+                -inward
+            } else {
+                inward
+            };
+            Some((v[i] + inward * inset, inward))
+        })
+        .collect()
+}
+
+fn bounds(v: &[DVec3]) -> (DVec3, DVec3) {
+    v.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), x| (lo.min(*x), hi.max(*x)),
+    )
+}
+
+/// Points spread evenly over the convex element `polygon`, one jittered
+/// (by `seed`) in each cell of a grid of `SIDE` x `SIDE` (a quad: bilinear
+/// cells; a triangle: its subdivision into `SIDE^2` equal triangles). The
+/// jitter keeps the visible share unbiased where a contact line runs along
+/// the grid.
+#[must_use]
+pub(crate) fn test_points(polygon: &[DVec3], seed: u64) -> SmallVec<[DVec3; 64]> {
+    let mut out = SmallVec::new();
+    let mut state = seed;
+    let n = SIDE as f64;
+    if polygon.len() == 4 {
+        for i in 0..SIDE {
+            for j in 0..SIDE {
+                let s = (i as f64 + unit(&mut state)) / n;
+                let t = (j as f64 + unit(&mut state)) / n;
+                let a = polygon[0].lerp(polygon[1], s);
+                let b = polygon[3].lerp(polygon[2], s);
+                out.push(a.lerp(b, t));
+            }
+        }
+    } else {
+        let (a, e1, e2) = (polygon[0], polygon[1] - polygon[0], polygon[2] - polygon[0]);
+        let at = |i: f64, j: f64| a + e1 * (i / n) + e2 * (j / n);
+        let inside = |p: [DVec3; 3], state: &mut u64| {
+            let (mut r, mut q) = (unit(state), unit(state));
+            if r + q > 1.0 {
+                (r, q) = (1.0 - r, 1.0 - q);
+            }
+            p[0] + (p[1] - p[0]) * r + (p[2] - p[0]) * q
+        };
+        for i in 0..SIDE {
+            for j in 0..SIDE - i {
+                let (x, y) = (i as f64, j as f64);
+                // The upright sub-triangle at (i, j) and, where there is
+                // room, the inverted one beside it.
+                let upright = [at(x, y), at(x + 1.0, y), at(x, y + 1.0)];
+                out.push(inside(upright, &mut state));
+                if i + j + 1 < SIDE {
+                    let inverted = [at(x + 1.0, y), at(x + 1.0, y + 1.0), at(x, y + 1.0)];
+                    out.push(inside(inverted, &mut state));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Where a partly covered element receives, and how much of it can.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Coverage {
+    /// The receiving point: the usual eye if it is visible, else the visible
+    /// test point nearest the visible points' mean.
+    pub eye: DVec3,
+    /// The share of the test points that are not shut in, in (0, 1).
+    pub visible: f64,
+}
+
+impl Occluders {
+    /// The coverage of an element (`polygon`, on `surface` with unit
+    /// `normal`, receiving at `eye`, test points lifted by `lift` and
+    /// jittered by `seed`), or `None`
+    /// when all its test points agree (wholly visible or wholly shut in: the
+    /// usual row serves).
+    #[must_use]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn coverage(
+        &self,
+        sources: &Sources,
+        polygon: &[DVec3],
+        normal: DVec3,
+        surface: u32,
+        eye: DVec3,
+        lift: DVec3,
+        seed: u64,
+    ) -> Option<Coverage> {
+        let points = test_points(polygon, seed);
+        let open: SmallVec<[DVec3; 64]> = points
+            .iter()
+            .map(|p| *p + lift)
+            .filter(|p| self.mostly_open(sources, *p, normal, surface))
+            .collect();
+        if open.is_empty() || open.len() == points.len() {
+            return None;
+        }
+        let visible = open.len() as f64 / points.len() as f64;
+        let eye = if !self.mostly_open(sources, eye, normal, surface) {
+            let mean = open.iter().copied().sum::<DVec3>() / open.len() as f64;
+            open.iter()
+                .copied()
+                .min_by(|a, b| {
+                    (*a - mean)
+                        .length_squared()
+                        .total_cmp(&(*b - mean).length_squared())
+                })
+                .unwrap_or(eye)
+        } else {
+            eye
+        };
+        Some(Coverage { eye, visible })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn test_points_fall_one_in_each_cell_of_a_triangle() {
+        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
+        let p = test_points(&t, 7);
+        assert_eq!(p.len(), SIDE * SIDE);
+        assert!(p.iter().all(|x| x.x > 0.0 && x.y > 0.0 && x.x + x.y < 1.0));
+        // Every sub-triangle holds exactly one point.
+        let n = SIDE as f64;
+        let mut cells: Vec<(i64, i64, bool)> = p
+            .iter()
+            .map(|x| {
+                let (i, j) = ((x.x * n).floor(), (x.y * n).floor());
+                let inverted = x.x * n - i + x.y * n - j > 1.0;
+                (i as i64, j as i64, inverted)
+            })
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        assert_eq!(cells.len(), SIDE * SIDE);
+    }
+
+    #[test]
+    fn test_points_fall_one_in_each_cell_of_a_square() {
+        let q = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let p = test_points(&q, 3);
+        let n = SIDE as f64;
+        let mut cells: Vec<(i64, i64)> = p
+            .iter()
+            .map(|x| ((x.x * n).floor() as i64, (x.y * n).floor() as i64))
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        assert_eq!(cells.len(), SIDE * SIDE);
+        assert_ne!(p, test_points(&q, 4), "the jitter follows the seed");
+    }
+}
