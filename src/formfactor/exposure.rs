@@ -37,7 +37,9 @@ impl Occluders {
         own_surface: u32,
     ) -> bool {
         let (t1, t2) = normal.any_orthonormal_pair();
-        let blocked = |dir: DVec3| self.first_face(sources, eye, dir, own_surface) == Some(false);
+        let blocked = |dir: DVec3| {
+            self.first_face(sources, eye, dir, own_surface, f64::INFINITY) == Some(false)
+        };
         blocked(normal)
             && RINGS.iter().all(|&(elevation, count)| {
                 let (sin_e, cos_e) = elevation.sin_cos();
@@ -49,12 +51,15 @@ impl Occluders {
             })
     }
 
-    /// True when at least half the rays of the fan from `eye` over the
-    /// hemisphere about unit `normal` meet a front face or nothing (ignoring
+    /// True when at least half the rays of the upper part of the fan (the
+    /// normal and the rings highest above the horizon) from `eye` about unit
+    /// `normal` meet a front face or nothing (ignoring
     /// `own_surface`): the test of a point of a partly covered element (see
     /// `contacts.rs`). Unlike [`Self::is_shut_in`], a ray or two slipping out
     /// where a solid meets the surface at a glancing angle (a capital's rim
-    /// under its abacus) do not make a point inside the solid visible.
+    /// under its abacus) do not make a point inside the solid visible. Rays
+    /// stop at `reach`: what covers part of an element is met within a few
+    /// times its size, and a ray that meets nothing by then counts as open.
     #[must_use]
     pub(crate) fn mostly_open(
         &self,
@@ -62,13 +67,17 @@ impl Occluders {
         eye: DVec3,
         normal: DVec3,
         own_surface: u32,
+        reach: f64,
     ) -> bool {
         let (t1, t2) = normal.any_orthonormal_pair();
-        let total = 1 + RINGS.iter().map(|r| r.1).sum::<usize>();
+        // The normal and the two upper rings: a point inside a solid meets
+        // its back faces in every direction, one in the open in most.
+        let rings = &RINGS[..2];
+        let total = 1 + rings.iter().map(|r| r.1).sum::<usize>();
         let needed = total.div_ceil(2);
         let (mut open, mut blocked) = (0, 0);
         let mut count = |dir: DVec3| {
-            if self.first_face(sources, eye, dir, own_surface) == Some(false) {
+            if self.first_face(sources, eye, dir, own_surface, reach) == Some(false) {
                 blocked += 1;
             } else {
                 open += 1;
@@ -78,7 +87,7 @@ impl Occluders {
         if count(normal) {
             return open >= needed;
         }
-        for &(elevation, n) in &RINGS {
+        for &(elevation, n) in rings {
             let (sin_e, cos_e) = elevation.sin_cos();
             for k in 0..n {
                 let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / n as f64;
@@ -91,14 +100,21 @@ impl Occluders {
         open >= needed
     }
 
-    /// What the ray from `eye` along unit `dir` meets first: `Some(true)` a
-    /// front face, `Some(false)` a back face, `None` nothing.
-    fn first_face(&self, sources: &Sources, eye: DVec3, dir: DVec3, skip: u32) -> Option<bool> {
+    /// What the ray from `eye` along unit `dir` meets first within `reach`:
+    /// `Some(true)` a front face, `Some(false)` a back face, `None` nothing.
+    fn first_face(
+        &self,
+        sources: &Sources,
+        eye: DVec3,
+        dir: DVec3,
+        skip: u32,
+        reach: f64,
+    ) -> Option<bool> {
         let ray = Ray::new(
             (eye - self.centre).as_vec3a(),
             dir.as_vec3a(),
             0.0,
-            f32::INFINITY,
+            reach as f32,
         );
         // The BVH prunes in single precision; the nearest hit is decided here
         // in double precision, with the single-precision bound padded so that
