@@ -18,11 +18,12 @@
 //! [`Occluders::mostly_open`]; the share of them that are is the element's
 //! visible fraction, and its row is taken at a visible
 //! point (the centroid where it is visible) and scaled by that fraction (see
-//! [`Row::covered`]).
+//! [`Row::covered`]). Its light from emitters, which changes fast around
+//! what stands on it, is the mean over up to eight of the visible points.
 
 use super::bvh_walk::walk;
 use super::visibility::unit;
-use super::{Occluders, Sources};
+use super::{Occluders, Samples, Sources};
 use crate::math::{clip_in_place, polygon_area};
 use crate::mesh::Mesh;
 use glam::DVec3;
@@ -37,6 +38,10 @@ type Piece = SmallVec<[DVec3; 8]>;
 /// they disagree, 64, so that the visible share is known to a few percent.
 const FIRST_SIDE: usize = 4;
 
+/// Visible test points at which a partly covered element's light from
+/// emitters is measured.
+const EMITTER_POINTS: usize = 8;
+
 /// How far the rays testing a point go, in element sizes (square roots of
 /// its area).
 const REACH: f64 = 4.0;
@@ -50,8 +55,9 @@ const SLAB: f64 = 1e-3;
 
 /// The pieces of other polygons that touch the inside of each surface.
 pub(crate) struct Contacts {
-    /// Per surface of the mesh: each piece with its bounding box.
-    pieces: Vec<Vec<(Piece, DVec3, DVec3)>>,
+    /// Per surface of the mesh: each piece with its bounding box and the
+    /// diameter of the polygon it is cut from.
+    pieces: Vec<Vec<(Piece, DVec3, DVec3, f64)>>,
 }
 
 impl Contacts {
@@ -95,7 +101,7 @@ impl Contacts {
                         }
                         if piece.len() >= 3 {
                             let (a, b) = bounds(&piece);
-                            found.push((piece, a, b));
+                            found.push((piece, a, b, 2.0 * p.radius));
                         }
                         true
                     },
@@ -106,32 +112,41 @@ impl Contacts {
         Contacts { pieces }
     }
 
-    /// True when a contact of surface `surface` reaches into `polygon` (an
-    /// element of it, convex, with the surface's unit `normal`).
+    /// When a contact of surface `surface` reaches into `polygon` (an
+    /// element of it, convex, with the surface's unit `normal`): the largest
+    /// diameter of the polygons it comes from, which bounds how far a ray
+    /// from a point under the object travels before it meets the object.
     #[must_use]
-    pub(crate) fn touches(&self, surface: u32, polygon: &[DVec3], normal: DVec3) -> bool {
-        let Some(pieces) = self.pieces.get(surface as usize) else {
-            return false;
-        };
+    pub(crate) fn touching(&self, surface: u32, polygon: &[DVec3], normal: DVec3) -> Option<f64> {
+        let pieces = self.pieces.get(surface as usize)?;
         if pieces.is_empty() {
-            return false;
+            return None;
         }
         let (lo, hi) = bounds(polygon);
         let pad = DVec3::splat(SLAB * polygon_area(polygon).sqrt());
         let planes = inset_planes(polygon, normal, 0.0);
-        pieces.iter().any(|(piece, a, b)| {
+        let mut largest: Option<f64> = None;
+        for (piece, a, b, size) in pieces {
             if !(a.cmple(hi + pad).all() && b.cmpge(lo - pad).all()) {
-                return false;
+                continue;
+            }
+            if largest.is_some_and(|l| l >= *size) {
+                continue;
             }
             let mut p = piece.clone();
+            let mut inside = true;
             for &(origin, inward) in &planes {
                 clip_in_place(&mut p, origin, inward);
                 if p.len() < 3 {
-                    return false;
+                    inside = false;
+                    break;
                 }
             }
-            true
-        })
+            if inside {
+                largest = Some(*size);
+            }
+        }
+        largest
     }
 
     /// True when no surface has a contact.
@@ -215,19 +230,25 @@ pub(crate) fn test_points(polygon: &[DVec3], side: usize, seed: u64) -> SmallVec
 }
 
 /// Where a partly covered element receives, and how much of it can.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Coverage {
     /// The receiving point: the usual eye if it is visible, else the visible
     /// test point nearest the visible points' mean.
     pub eye: DVec3,
     /// The share of the test points that are not shut in, in (0, 1).
     pub visible: f64,
+    /// Visible test points spread over the visible part, equally weighted:
+    /// where the element's light from emitters is measured, since it changes
+    /// fast around what stands on it (one side in the light, the other in
+    /// the object's own shadow).
+    pub samples: Samples,
 }
 
 impl Occluders {
     /// The coverage of an element (`polygon`, on `surface` with unit
     /// `normal`, receiving at `eye`, test points lifted by `lift` and
-    /// jittered by `seed`), or `None`
+    /// jittered by `seed`, touched by polygons up to `contact_size` across),
+    /// or `None`
     /// when all its test points agree (wholly visible or wholly shut in: the
     /// usual row serves).
     #[must_use]
@@ -241,10 +262,12 @@ impl Occluders {
         eye: DVec3,
         lift: DVec3,
         seed: u64,
+        contact_size: f64,
     ) -> Option<Coverage> {
         // What covers part of the element is met within a few times its
-        // size; rays that go further need not be followed.
-        let reach = REACH * polygon_area(polygon).sqrt();
+        // size, or within the size of the polygons that touch it; rays that
+        // go further need not be followed.
+        let reach = (REACH * polygon_area(polygon).sqrt()).max(2.0 * contact_size);
         let open_at = |p: &DVec3| self.mostly_open(sources, *p + lift, normal, surface, reach);
         let first = test_points(polygon, FIRST_SIDE, seed);
         let seen = first.iter().filter(|p| open_at(p)).count();
@@ -275,7 +298,15 @@ impl Occluders {
         } else {
             eye
         };
-        Some(Coverage { eye, visible })
+        let count = open.len().min(EMITTER_POINTS);
+        let samples = (0..count)
+            .map(|k| (open[k * open.len() / count], 1.0 / count as f64))
+            .collect();
+        Some(Coverage {
+            eye,
+            visible,
+            samples,
+        })
     }
 }
 

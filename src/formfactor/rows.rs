@@ -152,15 +152,23 @@ pub(crate) fn compute_rows_with(
                 let coverage = match (&contacts, &occluders) {
                     (Some(c), Some(o)) => {
                         let polygon = lattice.polygon(&e.cell);
-                        if c.touches(e.surface, &polygon, lattice.normal) {
-                            o.coverage(sources, &polygon, lattice.normal, e.surface, eye, lift, h)
-                        } else {
-                            None
-                        }
+                        c.touching(e.surface, &polygon, lattice.normal)
+                            .and_then(|size| {
+                                o.coverage(
+                                    sources,
+                                    &polygon,
+                                    lattice.normal,
+                                    e.surface,
+                                    eye,
+                                    lift,
+                                    h,
+                                    size,
+                                )
+                            })
                     }
                     _ => None,
                 };
-                if let Some(c) = coverage {
+                if let Some(c) = &coverage {
                     eye = c.eye;
                 }
                 let (row, stats) =
@@ -186,6 +194,14 @@ pub(crate) fn compute_rows_with(
                                 // scaled by the visible share already.
                                 EmitterSampling::Element if coverage.is_none() => {
                                     element_samples(&lattice.polygon(&e.cell), lift)
+                                }
+                                EmitterSampling::Centre | EmitterSampling::Element
+                                    if coverage.is_some() =>
+                                {
+                                    coverage
+                                        .as_ref()
+                                        .map(|c| c.samples.clone())
+                                        .unwrap_or_default()
                                 }
                                 EmitterSampling::Centre | EmitterSampling::Element => {
                                     Samples::from_buf_and_len([(eye, 1.0); 4], 1)
@@ -216,7 +232,7 @@ pub(crate) fn compute_rows_with(
                                 lod: settings.level_of_detail.then_some(settings.table.n),
                             }),
                         });
-                        if let Some(c) = coverage {
+                        if let Some(c) = &coverage {
                             row = row.covered(c.visible);
                         }
                         (row, cube.stats - before)
