@@ -313,6 +313,103 @@ impl Occluders {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Rgb;
+    use crate::scene::SceneBuilder;
+
+    /// A 4 m floor (y = 0, facing up) with a wall standing on its edge, and
+    /// a 1 m box standing on it with one corner at the floor's centre.
+    fn floor_wall_and_box() -> (Mesh, Sources, Occluders) {
+        let p = DVec3::new;
+        let mut b = SceneBuilder::new("contacts");
+        let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        b.object("floor");
+        b.quad(
+            grey,
+            p(-2.0, 0.0, -2.0),
+            p(-2.0, 0.0, 2.0),
+            p(2.0, 0.0, 2.0),
+            p(2.0, 0.0, -2.0),
+        )
+        .unwrap();
+        b.object("wall");
+        b.quad(
+            grey,
+            p(-2.0, 0.0, -2.0),
+            p(2.0, 0.0, -2.0),
+            p(2.0, 2.0, -2.0),
+            p(-2.0, 2.0, -2.0),
+        )
+        .unwrap();
+        b.axis_box("box", grey, p(0.0, 0.0, 0.0), p(1.0, 1.0, 1.0))
+            .unwrap();
+        let scene = b.build().unwrap();
+        let mesh = Mesh::new(&scene, 10.0, usize::MAX).unwrap();
+        let sources = Sources::from_mesh(&mesh);
+        let occluders = Occluders::new(&sources);
+        (mesh, sources, occluders)
+    }
+
+    fn floor_square(x0: f64, z0: f64, side: f64) -> [DVec3; 4] {
+        [
+            DVec3::new(x0, 0.0, z0),
+            DVec3::new(x0, 0.0, z0 + side),
+            DVec3::new(x0 + side, 0.0, z0 + side),
+            DVec3::new(x0 + side, 0.0, z0),
+        ]
+    }
+
+    #[test]
+    fn a_box_on_the_floor_touches_it_and_a_wall_on_its_edge_does_not() {
+        let (mesh, sources, occluders) = floor_wall_and_box();
+        let contacts = Contacts::new(&mesh, &sources, &occluders);
+        let floor = 0;
+        // Across the box's corner: touched, by polygons 1 m across.
+        let size = contacts.touching(floor, &floor_square(-0.5, -0.5, 1.0), DVec3::Y);
+        assert!(
+            size.is_some_and(|s| (s - 2f64.sqrt()).abs() < 1e-9),
+            "{size:?}"
+        );
+        // Along the wall's foot, away from the box: not touched.
+        let by_wall = floor_square(-1.5, -2.0, 0.5);
+        assert_eq!(contacts.touching(floor, &by_wall, DVec3::Y), None);
+        // Wholly under the box: touched by its bottom, which lies on the
+        // floor (the test points then agree, and the usual row serves).
+        let under = floor_square(0.25, 0.25, 0.5);
+        assert!(contacts.touching(floor, &under, DVec3::Y).is_some());
+    }
+
+    #[test]
+    fn a_floor_element_a_quarter_under_the_box_is_three_quarters_visible() {
+        let (_, sources, occluders) = floor_wall_and_box();
+        let element = floor_square(-0.5, -0.5, 1.0);
+        let lift = DVec3::Y * 1e-6;
+        let centroid = DVec3::new(0.0, 0.0, 0.0) + lift;
+        let c = occluders
+            .coverage(&sources, &element, DVec3::Y, 0, centroid, lift, 11, 1.5)
+            .expect("the box covers part of the element");
+        // The 8 x 8 jittered points fall one per cell, and the box covers
+        // 16 cells of 64 exactly.
+        assert_eq!(c.visible, 0.75);
+        // The eye is a visible point (here the centroid, at the box's
+        // corner).
+        assert!(!occluders.is_shut_in(&sources, c.eye, DVec3::Y, 0));
+        assert!(!c.samples.is_empty() && c.samples.len() <= EMITTER_POINTS);
+        let weights: f64 = c.samples.iter().map(|s| s.1).sum();
+        assert!((weights - 1.0).abs() < 1e-12);
+        // An element in the open, or wholly under the box, needs no coverage.
+        let open = floor_square(-1.5, 0.5, 0.5);
+        let centre = DVec3::new(-1.25, 0.0, 0.75) + lift;
+        assert_eq!(
+            occluders.coverage(&sources, &open, DVec3::Y, 0, centre, lift, 11, 1.5),
+            None
+        );
+        let under = floor_square(0.25, 0.25, 0.5);
+        let centre = DVec3::new(0.5, 0.0, 0.5) + lift;
+        assert_eq!(
+            occluders.coverage(&sources, &under, DVec3::Y, 0, centre, lift, 11, 1.5),
+            None
+        );
+    }
 
     #[test]
     fn test_points_fall_one_in_each_cell_of_a_triangle() {
