@@ -16,9 +16,8 @@
 //! floor). Only for those elements, points spread evenly over the element
 //! (16, then 64 where those disagree) are tested with
 //! [`Occluders::mostly_open`]; the share of them that are is the element's
-//! visible fraction, and its row is taken at a visible
-//! point (the centroid where it is visible) and scaled by that fraction (see
-//! [`Row::covered`]). Its light from emitters, which changes fast around
+//! visible fraction, and its row is taken at a visible point (the centroid
+//! where it is visible) and scaled by that fraction (see [`Row::covered`]). Its light from emitters, which changes fast around
 //! what stands on it, is the mean over up to eight of the visible points.
 
 use super::bvh_walk::walk;
@@ -37,6 +36,7 @@ type Piece = SmallVec<[DVec3; 8]>;
 /// elements a contact's slab reaches answer alike (wholly visible); where
 /// they disagree, 64, so that the visible share is known to a few percent.
 const FIRST_SIDE: usize = 4;
+const SIDE: usize = 8;
 
 /// Visible test points at which a partly covered element's light from
 /// emitters is measured.
@@ -45,7 +45,6 @@ const EMITTER_POINTS: usize = 8;
 /// How far the rays testing a point go, in element sizes (square roots of
 /// its area).
 const REACH: f64 = 4.0;
-const SIDE: usize = 8;
 
 /// The slab about a surface's plane, and the inset of its border, relative
 /// to the surface's size: a contact nearer the border than this is the
@@ -248,9 +247,8 @@ impl Occluders {
     /// The coverage of an element (`polygon`, on `surface` with unit
     /// `normal`, receiving at `eye`, test points lifted by `lift` and
     /// jittered by `seed`, touched by polygons up to `contact_size` across),
-    /// or `None`
-    /// when all its test points agree (wholly visible or wholly shut in: the
-    /// usual row serves).
+    /// or `None` when all its test points agree (wholly visible or wholly
+    /// shut in: the usual row serves).
     #[must_use]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn coverage(

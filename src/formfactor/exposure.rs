@@ -24,6 +24,20 @@ use obvhs::ray::{Ray, RayHit};
 /// the fan; the normal itself is the first ray.
 const RINGS: [(f64, usize); 4] = [(1.05, 6), (0.6, 10), (0.25, 16), (0.06, 16)];
 
+/// The directions of the fan about unit `normal`: the normal, then each of
+/// `rings` (elevation, azimuth count) in turn.
+fn fan(normal: DVec3, rings: &[(f64, usize)]) -> impl Iterator<Item = DVec3> + '_ {
+    let (t1, t2) = normal.any_orthonormal_pair();
+    std::iter::once(normal).chain(rings.iter().flat_map(move |&(elevation, count)| {
+        let (sin_e, cos_e) = elevation.sin_cos();
+        (0..count).map(move |k| {
+            let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / count as f64;
+            let (sin_a, cos_a) = azimuth.sin_cos();
+            normal * sin_e + (t1 * cos_a + t2 * sin_a) * cos_e
+        })
+    }))
+}
+
 impl Occluders {
     /// True when every ray of the fan from `eye` over the hemisphere about
     /// unit `normal` first meets a back face (ignoring polygons of
@@ -36,19 +50,9 @@ impl Occluders {
         normal: DVec3,
         own_surface: u32,
     ) -> bool {
-        let (t1, t2) = normal.any_orthonormal_pair();
-        let blocked = |dir: DVec3| {
+        fan(normal, &RINGS).all(|dir| {
             self.first_face(sources, eye, dir, own_surface, f64::INFINITY) == Some(false)
-        };
-        blocked(normal)
-            && RINGS.iter().all(|&(elevation, count)| {
-                let (sin_e, cos_e) = elevation.sin_cos();
-                (0..count).all(|k| {
-                    let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / count as f64;
-                    let (sin_a, cos_a) = azimuth.sin_cos();
-                    blocked(normal * sin_e + (t1 * cos_a + t2 * sin_a) * cos_e)
-                })
-            })
+        })
     }
 
     /// True when at least half the rays of the upper part of the fan (the
@@ -69,32 +73,20 @@ impl Occluders {
         own_surface: u32,
         reach: f64,
     ) -> bool {
-        let (t1, t2) = normal.any_orthonormal_pair();
         // The normal and the two upper rings: a point inside a solid meets
         // its back faces in every direction, one in the open in most.
         let rings = &RINGS[..2];
         let total = 1 + rings.iter().map(|r| r.1).sum::<usize>();
         let needed = total.div_ceil(2);
         let (mut open, mut blocked) = (0, 0);
-        let mut count = |dir: DVec3| {
+        for dir in fan(normal, rings) {
             if self.first_face(sources, eye, dir, own_surface, reach) == Some(false) {
                 blocked += 1;
             } else {
                 open += 1;
             }
-            open >= needed || blocked > total - needed
-        };
-        if count(normal) {
-            return open >= needed;
-        }
-        for &(elevation, n) in rings {
-            let (sin_e, cos_e) = elevation.sin_cos();
-            for k in 0..n {
-                let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / n as f64;
-                let (sin_a, cos_a) = azimuth.sin_cos();
-                if count(normal * sin_e + (t1 * cos_a + t2 * sin_a) * cos_e) {
-                    return open >= needed;
-                }
+            if open >= needed || blocked > total - needed {
+                break;
             }
         }
         open >= needed

@@ -171,72 +171,67 @@ pub(crate) fn compute_rows_with(
                 if let Some(c) = &coverage {
                     eye = c.eye;
                 }
-                let (row, stats) =
-                    if exact {
-                        let stats = HemicubeStats {
-                            exact_rows: 1,
-                            ..HemicubeStats::default()
-                        };
-                        (
-                            unoccluded_row(sources, eye, lattice.normal, e.surface),
-                            stats,
-                        )
-                    } else {
-                        let hidden_back = closed.as_ref().map(|c| {
-                            c.hidden_from(eye, hidden);
-                            hidden.as_slice()
-                        });
-                        let before = cube.stats;
-                        let samples = if emitters_exact {
-                            match settings.emitter_sampling {
-                                // Points of a partly covered element would
-                                // count the covered part twice: its row is
-                                // scaled by the visible share already.
-                                EmitterSampling::Element if coverage.is_none() => {
-                                    element_samples(&lattice.polygon(&e.cell), lift)
-                                }
-                                EmitterSampling::Centre | EmitterSampling::Element
-                                    if coverage.is_some() =>
-                                {
-                                    coverage
-                                        .as_ref()
-                                        .map(|c| c.samples.clone())
-                                        .unwrap_or_default()
-                                }
-                                EmitterSampling::Centre | EmitterSampling::Element => {
-                                    Samples::from_buf_and_len([(eye, 1.0); 4], 1)
-                                }
-                                EmitterSampling::Rays | EmitterSampling::Pixels => Samples::new(),
+                let (row, stats) = if exact {
+                    let stats = HemicubeStats {
+                        exact_rows: 1,
+                        ..HemicubeStats::default()
+                    };
+                    (
+                        unoccluded_row(sources, eye, lattice.normal, e.surface),
+                        stats,
+                    )
+                } else {
+                    let hidden_back = closed.as_ref().map(|c| {
+                        c.hidden_from(eye, hidden);
+                        hidden.as_slice()
+                    });
+                    let before = cube.stats;
+                    let samples = if emitters_exact {
+                        match (settings.emitter_sampling, &coverage) {
+                            (EmitterSampling::Rays | EmitterSampling::Pixels, _) => Samples::new(),
+                            // A partly covered element's own visible
+                            // points: the Gauss points would count the
+                            // covered part twice, as its row is scaled
+                            // by the visible share already.
+                            (_, Some(c)) => c.samples.clone(),
+                            (EmitterSampling::Element, None) => {
+                                element_samples(&lattice.polygon(&e.cell), lift)
                             }
-                        } else {
-                            Samples::new()
-                        };
-                        let rays = occluders.as_ref().filter(|_| emitters_exact).map(|o| {
-                            EmitterVisibility {
+                            (EmitterSampling::Centre, None) => {
+                                Samples::from_buf_and_len([(eye, 1.0); 4], 1)
+                            }
+                        }
+                    } else {
+                        Samples::new()
+                    };
+                    let rays =
+                        occluders
+                            .as_ref()
+                            .filter(|_| emitters_exact)
+                            .map(|o| EmitterVisibility {
                                 occluders: o,
                                 seed: h,
                                 samples: &samples,
-                            }
-                        });
-                        let mut row = cube.row_for(&RowRequest {
-                            sources,
-                            hidden_back,
-                            eye,
-                            normal: lattice.normal,
-                            angle,
-                            own_surface: e.surface,
-                            method: settings.method,
-                            emitter_rays: rays,
-                            cull: occluders.as_ref().map(|o| Cull {
-                                occluders: o,
-                                lod: settings.level_of_detail.then_some(settings.table.n),
-                            }),
-                        });
-                        if let Some(c) = &coverage {
-                            row = row.covered(c.visible);
-                        }
-                        (row, cube.stats - before)
-                    };
+                            });
+                    let mut row = cube.row_for(&RowRequest {
+                        sources,
+                        hidden_back,
+                        eye,
+                        normal: lattice.normal,
+                        angle,
+                        own_surface: e.surface,
+                        method: settings.method,
+                        emitter_rays: rays,
+                        cull: occluders.as_ref().map(|o| Cull {
+                            occluders: o,
+                            lod: settings.level_of_detail.then_some(settings.table.n),
+                        }),
+                    });
+                    if let Some(c) = &coverage {
+                        row = row.covered(c.visible);
+                    }
+                    (row, cube.stats - before)
+                };
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(64) || n == keys.len() {
                     progress(n);

@@ -33,6 +33,13 @@ impl RowView {
             covered: 1.0 - row.visible(),
         }
     }
+
+    /// The share of the receiver not covered by other objects (see
+    /// [`Row::visible`]).
+    #[must_use]
+    pub fn visible(&self) -> f64 {
+        1.0 - self.covered
+    }
 }
 
 /// Where a leaf's row stands.

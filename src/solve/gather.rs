@@ -32,7 +32,7 @@ impl GatherTotals {
         // visible part, by that part's view; its row also counts the
         // covered part as seeing back faces (see `Row::covered`).
         let (back, open) = if view.covered > 0.0 {
-            let visible = 1.0 - view.covered;
+            let visible = view.visible();
             (
                 ((view.back_faces - view.covered) / visible).max(0.0),
                 view.open / visible,

@@ -52,7 +52,7 @@ pub(crate) fn weight(mesh: &Mesh, form_factors: &FormFactors, k: ElementKey, clo
     if closed {
         area * state.view().map_or(0.0, |v| v.sum)
     } else if state.is_exposed() {
-        area * state.view().map_or(1.0, |v| 1.0 - v.covered)
+        area * state.view().map_or(1.0, |v| v.visible())
     } else {
         0.0
     }
@@ -185,7 +185,7 @@ impl PatchSystem {
             }
             // A partly covered leaf's row is its mean over its area; as a
             // source, its visible part stands for it (see `contacts.rs`).
-            let visible = form_factors.view(k).map_or(1.0, |v| 1.0 - v.covered);
+            let visible = form_factors.view(k).map_or(1.0, |v| v.visible());
             let w = weight(mesh, form_factors, k, closed) / total / visible;
             for &(j, f) in entries {
                 if dense[j as usize] == 0.0 {

@@ -201,19 +201,16 @@ impl Solver for Shooting<'_> {
             // What punctual lights deliver counts as emitted into the scene.
             emitted += direct.incident_power(mesh);
         }
-        let mut hidden = GatherTotals::default();
-        for k in mesh.leaves() {
-            if let Some(view) = ws.form_factors.view(k) {
-                hidden.add_hidden(mesh.elements[k].area, ws.radiosity.element(k), view);
-            }
-        }
-        let (back_faces, escaped) = (hidden.back_faces, hidden.escaped);
-        let totals = GatherTotals {
+        let mut totals = GatherTotals {
             emitted,
             absorbed: self.state.absorbed_power(mesh),
-            back_faces,
-            escaped,
+            ..GatherTotals::default()
         };
+        for k in mesh.leaves() {
+            if let Some(view) = ws.form_factors.view(k) {
+                totals.add_hidden(mesh.elements[k].area, ws.radiosity.element(k), view);
+            }
+        }
         // The shots' factors live in the shot cache, not in the store: the
         // system holds reflectance and emission with empty rows.
         let system = PatchSystem::from_mesh(mesh, &ws.form_factors);
@@ -463,7 +460,7 @@ impl<'p> Shooting<'p> {
             if let Some(view) = ws.form_factors.view(*k) {
                 let seen = view.sum > 0.0;
                 self.receivers.exposed[i] = seen;
-                let visible = 1.0 - view.covered;
+                let visible = view.visible();
                 self.receivers.visible[i] = visible;
                 self.receivers.exposure[i] = match (self.closed, seen) {
                     (true, _) => view.sum,
