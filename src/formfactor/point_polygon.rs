@@ -13,7 +13,15 @@ use glam::DVec3;
 /// above `p`'s plane.
 #[must_use]
 pub fn point_to_polygon(p: DVec3, n: DVec3, vertices: &[DVec3]) -> f64 {
-    let clipped = clip_to_halfspace(vertices, p, n);
+    // Wholly above the horizon (most calls), clipping would copy the
+    // vertices unchanged.
+    let kept;
+    let clipped: &[DVec3] = if vertices.iter().all(|v| n.dot(*v - p) >= 0.0) {
+        vertices
+    } else {
+        kept = clip_to_halfspace(vertices, p, n);
+        &kept
+    };
     let m = clipped.len();
     if m < 3 {
         return 0.0;

@@ -20,16 +20,36 @@ use glam::DVec3;
 /// occluder thinner than this hides nothing measurable.
 pub(super) const CONVEX_TOLERANCE: f64 = 1e-6;
 
+/// Most distinct planes a scene may have for [`is_convex_enclosure`] to
+/// check it: the check costs planes times vertices, and a scene with more
+/// planes than this is treated as not convex (its rows take the general
+/// path, which is right for any scene).
+const MAX_PLANES: usize = 4096;
+
 /// Whether the surfaces of `mesh` form a convex enclosure (or an open part of
 /// one): every vertex of every surface on or in front of every surface's
 /// plane, within [`CONVEX_TOLERANCE`] of the scene's scale plus the plane's
 /// own departure from planarity. Then no element's view is occluded.
+///
+/// Each new plane is checked against every vertex as soon as it is met, so
+/// that a scene with anything standing inside it is refused at its first
+/// such plane rather than after all planes are collected (an interior of a
+/// million triangles spent minutes collecting them). Past [`MAX_PLANES`]
+/// distinct planes the answer is false.
 #[must_use]
 pub(crate) fn is_convex_enclosure(mesh: &Mesh) -> bool {
     let scale = scene_scale(mesh);
     let base = CONVEX_TOLERANCE * scale;
+    let in_front = |n: DVec3, d: f64, warp: f64| {
+        mesh.surfaces
+            .iter()
+            .flat_map(|s| s.vertices.iter())
+            .all(|v| n.dot(*v) - d >= -(base + warp))
+    };
     // Distinct planes only: a tessellated wall is one plane however many
     // surfaces it is cut into, so the test costs vertices times planes.
+    // A surface that joins a plane already checked widens its tolerance by
+    // its own warp, and the plane is checked again if it widened.
     let mut planes: Vec<(DVec3, f64, f64)> = Vec::new();
     for s in &mesh.surfaces {
         let n = s.normal;
@@ -43,17 +63,23 @@ pub(crate) fn is_convex_enclosure(mesh: &Mesh) -> bool {
             .iter_mut()
             .find(|(m, e, _)| m.dot(n) >= 1.0 - 1e-12 && (e - d).abs() <= base);
         match same {
-            Some(plane) => plane.2 = plane.2.max(warp),
-            None => planes.push((n, d, warp)),
+            Some(plane) if plane.2 >= warp => {}
+            Some(plane) => {
+                plane.2 = warp;
+                let (m, e, w) = *plane;
+                if !in_front(m, e, w) {
+                    return false;
+                }
+            }
+            None => {
+                if planes.len() == MAX_PLANES || !in_front(n, d, warp) {
+                    return false;
+                }
+                planes.push((n, d, warp));
+            }
         }
     }
-    mesh.surfaces.iter().all(|s| {
-        s.vertices.iter().all(|v| {
-            planes
-                .iter()
-                .all(|(n, d, warp)| n.dot(*v) - d >= -(base + warp))
-        })
-    })
+    true
 }
 
 /// The exact unoccluded row of a differential area at `eye` with unit

@@ -74,12 +74,15 @@ impl Hemicube {
         let count = poly.count as usize;
         let mut local = [DVec3::ZERO; 4];
         let mut above = false;
-        let mut scale: f64 = 0.0;
+        let mut scale_squared: f64 = 0.0;
         for (l, v) in local.iter_mut().zip(&poly.vertices[..count]) {
             *l = frame.local(*v);
             above |= l.z > 0.0;
-            scale = scale.max(l.length());
+            scale_squared = scale_squared.max(l.length_squared());
         }
+        // One square root: it is monotonic and correctly rounded, so this is
+        // the largest of the vertices' distances to the bit.
+        let scale = scale_squared.sqrt();
         if !above {
             self.stats.polygons_culled += 1;
             return;
@@ -98,8 +101,16 @@ impl Hemicube {
         }
         let item = if h < 0.0 { poly.patch } else { BACK_FACE };
         let near = 1e-7 * scale;
-        for (fi, face) in Face::ALL.iter().enumerate() {
-            self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
+        match sole_face(&local[..count]) {
+            Some(fi) => {
+                let face = Face::ALL[fi];
+                self.rasterize::<FILL>(face, fi, &local[..count], face.map(m), h, near, item);
+            }
+            None => {
+                for (fi, face) in Face::ALL.iter().enumerate() {
+                    self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
+                }
+            }
         }
         if list_subpixel && item != BACK_FACE && self.covered[item as usize] == 0.0 {
             let mean = |v: &[DVec3]| v.iter().copied().sum::<DVec3>() / count as f64;
@@ -278,6 +289,36 @@ impl Hemicube {
     }
 }
 
+/// The face whose view cone holds every vertex of `local` strictly inside
+/// it, if there is one: a convex polygon then lies in that cone, and each
+/// other face's frustum test in `rasterize` rejects it on one plane (every
+/// vertex beyond it by a strict inequality on the same values), so drawing
+/// that face alone gives the same pixels. Most polygons a hemi-cube draws
+/// are small and fall in one face.
+fn sole_face(local: &[DVec3]) -> Option<usize> {
+    let region = |l: DVec3| {
+        let (ax, ay) = (l.x.abs(), l.y.abs());
+        if l.z > ax && l.z > ay {
+            Some(0)
+        } else if l.x > ay && l.x > l.z {
+            Some(1)
+        } else if -l.x > ay && -l.x > l.z {
+            Some(2)
+        } else if l.y > ax && l.y > l.z {
+            Some(3)
+        } else if -l.y > ax && -l.y > l.z {
+            Some(4)
+        } else {
+            None
+        }
+    };
+    let first = region(local[0])?;
+    local[1..]
+        .iter()
+        .all(|l| region(*l) == Some(first))
+        .then_some(first)
+}
+
 /// The smallest integer at or above `x`, clamped to `0..=limit` (pixel index
 /// ranges; avoids a libm call per scanline on baseline x86-64).
 #[inline]
@@ -290,7 +331,7 @@ fn ceil_index(x: f64, limit: usize) -> usize {
     }
     // Signed conversions are single instructions on x86-64; unsigned ones are not.
     let t = x as i64;
-    (if (t as f64) < x { t + 1 } else { t }) as usize
+    (t + i64::from((t as f64) < x)) as usize
 }
 
 /// Sutherland-Hodgman against the plane depth = near, into `out`; returns the
@@ -311,4 +352,51 @@ fn clip_near(pts: &[DVec3], near: f64, out: &mut [DVec3; 8]) -> usize {
         }
     }
     n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::DeltaTable;
+    use super::*;
+    use crate::formfactor::visibility::unit;
+    use std::sync::Arc;
+
+    #[test]
+    fn a_polygon_in_one_face_cone_is_rejected_by_every_other_face() {
+        // What `draw_polygon` relies on to draw such a polygon on its sole
+        // face: each other face's own test draws none of it.
+        let mut cube = Hemicube::new(Arc::new(DeltaTable::new(16)), 1);
+        let mut state = 7u64;
+        let mut next = || 2.0 * unit(&mut state) - 1.0;
+        let (mut sole, mut spanning) = (0, 0);
+        for _ in 0..5000 {
+            let c = DVec3::new(next(), next(), next());
+            let tri: Vec<DVec3> = (0..3)
+                .map(|_| c + DVec3::new(next(), next(), next()) * 0.3)
+                .collect();
+            let Some(f) = sole_face(&tri) else {
+                spanning += 1;
+                continue;
+            };
+            sole += 1;
+            // The face the polygon's centre direction falls in is its own.
+            let centre = tri.iter().copied().sum::<DVec3>() / 3.0;
+            if let Some((fi, _, _)) = cube.pixel_of(centre) {
+                assert_eq!(fi, f, "{tri:?}");
+            }
+            for (fi, face) in Face::ALL.iter().enumerate() {
+                if fi == f {
+                    continue;
+                }
+                let before = cube.stats.polygons_rasterized;
+                cube.rasterize::<true>(*face, fi, &tri, face.map(DVec3::Z), -1.0, 1e-9, 0);
+                assert_eq!(
+                    cube.stats.polygons_rasterized, before,
+                    "face {fi} drew a polygon of face {f}: {tri:?}"
+                );
+                assert!(cube.drawn[fi].is_empty());
+            }
+        }
+        assert!(sole > 1000 && spanning > 100, "{sole} {spanning}");
+    }
 }
