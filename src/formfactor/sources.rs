@@ -5,6 +5,34 @@ use super::point_to_polygon;
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 
+/// Below this ratio of a polygon's bounding radius to its distance, its
+/// unoccluded form factor is taken as the differential one (area times the
+/// two cosines over pi r^2, at its centroid) rather than from Lambert's
+/// contour formula. Taken at the area centroid, the first-order terms cancel
+/// and the two differ by the order of the ratio squared: under 1e-3 of the form factor here (unit test), far below the
+/// hemi-cube's own errors. A face cluster of a large mesh holds hundreds of
+/// small triangles, each an arc tangent per edge in every row that sees it:
+/// half the time of the rows of the million-triangle atrium went there.
+const FAR: f64 = 0.03;
+
+/// The area and area centroid of a convex planar polygon of 3 or 4
+/// vertices (a quad as two triangles; its vertex mean is its centroid only
+/// when it is a parallelogram).
+fn area_and_centroid(v: &[DVec3]) -> (f64, DVec3) {
+    let triangle =
+        |a: DVec3, b: DVec3, c: DVec3| ((b - a).cross(c - a).length() * 0.5, (a + b + c) / 3.0);
+    let (a1, c1) = triangle(v[0], v[1], v[2]);
+    if v.len() < 4 {
+        return (a1, c1);
+    }
+    let (a2, c2) = triangle(v[0], v[2], v[3]);
+    let area = a1 + a2;
+    if area <= 0.0 {
+        return (0.0, c1);
+    }
+    (area, (c1 * a1 + c2 * a2) / area)
+}
+
 /// A polygon as the hemi-cube sees it.
 #[derive(Clone, Debug)]
 pub struct SourcePolygon {
@@ -133,11 +161,11 @@ impl Sources {
     #[must_use]
     pub fn exact_form_factor(&self, p: u32, eye: DVec3, normal: DVec3) -> f64 {
         match self.patch(p) {
-            [one] => point_to_polygon(eye, normal, one.corners()),
+            [one] => one.form_factor(eye, normal),
             many => many
                 .iter()
                 .filter(|q| q.faces(eye))
-                .map(|q| point_to_polygon(eye, normal, q.corners()))
+                .map(|q| q.form_factor(eye, normal))
                 .sum(),
         }
     }
@@ -174,9 +202,80 @@ impl SourcePolygon {
         &self.vertices[..self.count as usize]
     }
 
+    /// Its unoccluded form factor from (`eye`, unit `normal`), clipped to the
+    /// horizon, either side facing: Lambert's formula, or where it is small
+    /// and far (see [`FAR`]) and wholly above the horizon, the differential
+    /// form factor at its centroid.
+    #[must_use]
+    pub(crate) fn form_factor(&self, eye: DVec3, normal: DVec3) -> f64 {
+        let d = self.centre - eye;
+        let r2 = d.length_squared();
+        if self.radius * self.radius < FAR * FAR * r2 && normal.dot(d) > self.radius {
+            // At the area centroid the first-order terms cancel.
+            let (area, centroid) = area_and_centroid(self.corners());
+            let d = centroid - eye;
+            let r2 = d.length_squared();
+            let (up, facing) = (normal.dot(d), self.normal.dot(d).abs());
+            return area * up * facing / (std::f64::consts::PI * r2 * r2);
+        }
+        point_to_polygon(eye, normal, self.corners())
+    }
+
     /// True when `eye` lies in front of its plane.
     #[must_use]
     pub fn faces(&self, eye: DVec3) -> bool {
         self.normal.dot(eye - self.vertices[0]) > 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formfactor::visibility::unit;
+
+    #[test]
+    fn small_far_polygons_match_lamberts_formula_to_1e_minus_3() {
+        // Random triangles and trapezoids just inside the threshold, at
+        // random distances, directions and tilts above a receiver facing +z:
+        // the differential form factor against Lambert's contour formula
+        // (measured: 5.9e-4 at worst).
+        let mut state = 11u64;
+        let mut next = || unit(&mut state);
+        let (mut far, mut worst) = (0, 0.0f64);
+        for k in 0..4000 {
+            let distance = 0.5 + 20.0 * next();
+            let dir = DVec3::new(next() - 0.5, next() - 0.5, 0.2 + next()).normalize();
+            let centre = dir * distance;
+            let size = FAR * distance * (0.5 + 0.45 * next());
+            let tilt = DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
+            let u = tilt.any_orthonormal_vector();
+            let w = tilt.cross(u);
+            let corners: Vec<DVec3> = if k % 2 == 0 {
+                (0..3)
+                    .map(|i| {
+                        let a = std::f64::consts::TAU * (i as f64 + 0.3 * next()) / 3.0;
+                        centre + (u * a.cos() + w * a.sin()) * size
+                    })
+                    .collect()
+            } else {
+                // A trapezoid, whose vertex mean is not its centroid.
+                let (top, bottom) = (0.2 + 0.5 * next(), 0.7);
+                [(-bottom, -0.6), (bottom, -0.6), (top, 0.6), (-top, 0.6)]
+                    .iter()
+                    .map(|(x, y)| centre + (u * *x + w * *y) * size)
+                    .collect()
+            };
+            let poly = SourcePolygon::new(&corners, tilt, 0);
+            let exact = point_to_polygon(DVec3::ZERO, DVec3::Z, &corners);
+            let got = poly.form_factor(DVec3::ZERO, DVec3::Z);
+            if exact <= 1e-12 {
+                continue;
+            }
+            let far_enough = poly.radius < FAR * poly.centre.length();
+            far += usize::from(far_enough && poly.centre.z > poly.radius);
+            worst = worst.max((got - exact).abs() / exact);
+        }
+        assert!(far > 3000, "{far} polygons took the differential form");
+        assert!(worst < 1e-3, "worst relative difference {worst:.2e}");
     }
 }
