@@ -9,8 +9,9 @@ use glam::DVec3;
 /// unoccluded form factor is taken as the differential one (area times the
 /// two cosines over pi r^2, at its centroid) rather than from Lambert's
 /// contour formula. Taken at the area centroid, the first-order terms cancel
-/// and the two differ by the order of the ratio squared: under 1e-3 of the form factor here (unit test), far below the
-/// hemi-cube's own errors. A face cluster of a large mesh holds hundreds of
+/// and the two differ by the order of the ratio squared: under 1e-3 of the
+/// form factor here (unit test), far below the hemi-cube's own errors. A
+/// face cluster of a large mesh holds hundreds of
 /// small triangles, each an arc tangent per edge in every row that sees it:
 /// half the time of the rows of the million-triangle atrium went there.
 const FAR: f64 = 0.03;
