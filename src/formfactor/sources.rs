@@ -11,9 +11,9 @@ use glam::DVec3;
 /// contour formula. Taken at the area centroid, the first-order terms cancel
 /// and the two differ by the order of the ratio squared: under 1e-3 of the
 /// form factor here (unit test), far below the hemi-cube's own errors. A
-/// face cluster of a large mesh holds hundreds of
-/// small triangles, each an arc tangent per edge in every row that sees it:
-/// half the time of the rows of the million-triangle atrium went there.
+/// face cluster of a large mesh holds hundreds of small triangles, each an
+/// arc tangent per edge in every row that sees it: half the time of the rows
+/// of the million-triangle atrium went there.
 const FAR: f64 = 0.03;
 
 /// The area and area centroid of a convex planar polygon of 3 or 4
