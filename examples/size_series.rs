@@ -49,7 +49,7 @@ fn children_cpu() -> Result<f64, String> {
     Ok((ticks(13)? + ticks(14)?) / 100.0)
 }
 
-/// A number at `path` (dot-separated keys) in the stats JSON `text`.
+/// The number at `path` (dot-separated keys) in the stats `json`.
 fn number(json: &serde_json::Value, path: &str) -> Result<f64, String> {
     path.split('.')
         .try_fold(json, |v, key| v.get(key))

@@ -17,8 +17,9 @@
 //! (16, then 64 where those disagree) are tested with
 //! [`Occluders::mostly_open`]; the share of them that are is the element's
 //! visible fraction, and its row is taken at a visible point (the centroid
-//! where it is visible) and scaled by that fraction (see [`Row::covered`]). Its light from emitters, which changes fast around
-//! what stands on it, is the mean over up to eight of the visible points.
+//! where it is visible) and scaled by that fraction (see [`Row::covered`]).
+//! Its light from emitters, which changes fast around what stands on it, is
+//! the mean over up to eight of the visible points.
 
 use super::bvh_walk::walk;
 use super::visibility::unit;

@@ -49,7 +49,10 @@ pub(crate) fn is_convex_enclosure(mesh: &Mesh) -> bool {
     // Distinct planes only: a tessellated wall is one plane however many
     // surfaces it is cut into, so the test costs vertices times planes.
     // A surface that joins a plane already checked widens its tolerance by
-    // its own warp, and the plane is checked again if it widened.
+    // its own warp, and the plane is checked again if it widened. A plane is
+    // refused at the tolerance of the surfaces met so far, so a vertex that
+    // only a later member's warp would have let through is refused too:
+    // false is safe (the general path), and only warped quads are affected.
     let mut planes: Vec<(DVec3, f64, f64)> = Vec::new();
     for s in &mesh.surfaces {
         let n = s.normal;
