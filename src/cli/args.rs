@@ -282,6 +282,12 @@ pub struct SolveSettingsArgs {
     /// they light.
     #[arg(long = "source-tolerance", default_value_t = 0.0)]
     pub source_tolerance: f64,
+    /// Final gathers in which each element sees an unevenly lit patch close
+    /// by as its parts (its elements) rather than its mean, e.g. a bench the
+    /// floor in its own shadow (gauss-seidel only); 0 gathers patch means,
+    /// as plain substructuring does. Try 2 in cluttered scenes.
+    #[arg(long = "shaped-gathers", value_name = "N", default_value_t = 0)]
+    pub shaped_gathers: usize,
     /// Subdivide every patch uniformly to this depth instead of adapting.
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,

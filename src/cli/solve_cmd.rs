@@ -119,6 +119,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             ..RefineSettings::default()
         },
         bounces: if a.direct_only { Some(1) } else { a.bounces },
+        shaped_gathers: a.shaped_gathers,
         max_patches: a.max_patches.unwrap_or(usize::MAX),
         max_memory: max_memory(a.max_memory)?,
         ..Settings::default()
@@ -174,6 +175,8 @@ struct Report<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     direct: Option<&'a radiosity::pipeline::DirectFigures>,
     memory: Memory<'a>,
+    /// Per shaped gather, the patches seen by their parts.
+    shaped_sources: &'a [usize],
     final_max_difference: f64,
     /// `null`: the full solution; N: emitted light and N reflections.
     bounces: Option<u32>,
@@ -333,6 +336,7 @@ fn run_in_pool(
             mesh: &s.memory,
             peak_resident_bytes: super::peak_memory::peak_resident_bytes(),
         },
+        shaped_sources: &s.shaped_sources,
         final_max_difference: s.final_max_difference,
         bounces: s.bounces,
         patch_size: s.patch_size,

@@ -11,6 +11,7 @@ use crate::math::Rgb;
 use crate::mesh::ElementKey;
 use crate::refine::mark_sources;
 use crate::solution::Solution;
+use crate::solve::source_shape::SourceShapes;
 use crate::solve::{
     gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, GatherOptions, GatherTotals,
     PatchSystem, SolveReport,
@@ -102,7 +103,22 @@ impl Solver for Gathering {
         Ok(())
     }
 
-    fn finish(self, mut ws: Workspace<'_>) -> Solution {
+    fn finish(mut self, mut ws: Workspace<'_>) -> Solution {
+        if ws.settings.bounces.is_none() && ws.settings.shaped_gathers > 0 {
+            let mut shaped = false;
+            for _ in 0..ws.settings.shaped_gathers {
+                shaped |= self.shaped_gather(&mut ws);
+            }
+            if shaped {
+                // The elements no longer average to the solved patch
+                // radiosities: each patch's radiosity becomes its elements'
+                // area mean again.
+                for p in 0..ws.mesh.patches.len() {
+                    self.b[p] = ws.radiosity.patch_mean(&ws.mesh, &ws.mesh.patches[p]);
+                }
+                ws.radiosity.set_patches(&self.b);
+            }
+        }
         ws.finish_stats(&self.system, self.report, self.iterations, self.totals);
         ws.stats.warn();
         ws.into_solution(self.system)
@@ -122,6 +138,7 @@ impl Gathering {
             rowless: plan.rowless_patch.as_deref(),
             balance: Some(&self.system.balance),
             direct: ws.direct.as_ref(),
+            shapes: None,
         };
         let (report, totals) = if let Some(n) = ws.settings.bounces {
             gather_bounces(
@@ -154,6 +171,38 @@ impl Gathering {
         self.totals = totals;
         ws.stats.seconds.solve += t.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// One gather from the solved patch radiosities in which near receivers
+    /// see unevenly lit patches by their parts, as the last gather left them
+    /// (see [`crate::solve::source_shape`]). The patch system stays as
+    /// solved: each patch's receivers together gather from it what they did.
+    /// Returns false, gathering nothing, when every patch is even.
+    fn shaped_gather(&mut self, ws: &mut Workspace<'_>) -> bool {
+        let t = Instant::now();
+        let shapes = SourceShapes::new(&ws.mesh, &ws.form_factors, &ws.radiosity);
+        ws.stats.shaped_sources.push(shapes.len());
+        if shapes.len() == 0 {
+            // The gather would repeat the last one.
+            return false;
+        }
+        let plan = &ws.plan;
+        let options = GatherOptions {
+            grey: plan.grey,
+            rowless: plan.rowless_patch.as_deref(),
+            balance: Some(&self.system.balance),
+            direct: ws.direct.as_ref(),
+            shapes: Some(&shapes),
+        };
+        self.totals = gather_with(
+            &ws.mesh,
+            &ws.form_factors,
+            &mut ws.radiosity,
+            &self.b,
+            &options,
+        );
+        ws.stats.seconds.solve += t.elapsed().as_secs_f64();
+        true
     }
 
     /// One round of source-patch splitting: patches whose own elements

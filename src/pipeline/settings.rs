@@ -59,6 +59,12 @@ pub struct Settings {
     /// without an ambient term computes for diffuse surfaces); gathering solver
     /// only. See `crate::solve::bounces`.
     pub bounces: Option<u32>,
+    /// Gathers after the last solve that take each unevenly lit source
+    /// patch, seen from close by, by its parts rather than its mean (see
+    /// `crate::solve::source_shape`); 0 gathers every patch's mean, as the
+    /// substructuring method does. Each gather starts from the last one's
+    /// element radiosities. Gathering solver only; ignored with `bounces`.
+    pub shaped_gathers: usize,
     /// Work the solve may leave out where the scene does not need it (all
     /// on; off only to compare or measure).
     pub skips: Skips,
@@ -81,10 +87,15 @@ impl Default for Settings {
             max_patches: usize::MAX,
             max_memory: DEFAULT_MAX_MEMORY,
             bounces: None,
+            shaped_gathers: 0,
             skips: Skips::default(),
         }
     }
 }
+
+/// The most shaped gathers: each changes the next by less (two already
+/// agree closely), so more only cost time.
+pub const MAX_SHAPED_GATHERS: usize = 8;
 
 /// The default patch size is the scene's bounding-box diagonal over this.
 pub(super) const PATCHES_PER_DIAMETER: f64 = 10.0;
@@ -124,6 +135,15 @@ impl Settings {
                 "source-tolerance",
                 "source-patch splitting applies to the gathering solver (gauss-seidel) only"
                     .to_string(),
+            );
+        }
+        if self.shaped_gathers > MAX_SHAPED_GATHERS {
+            return bad(
+                "shaped-gathers",
+                format!(
+                    "must be at most {MAX_SHAPED_GATHERS}, got {}",
+                    self.shaped_gathers
+                ),
             );
         }
         if let Some(n) = self.bounces {

@@ -213,6 +213,9 @@ pub struct SolveStats {
     pub source_passes: Vec<SourcePassStats>,
     /// Refinement passes.
     pub passes: Vec<PassStats>,
+    /// Per shaped gather ([`Settings::shaped_gathers`]), the patches seen by
+    /// their parts because their elements differ.
+    pub shaped_sources: Vec<usize>,
     /// Largest remaining neighbour difference (relative), at the last check.
     pub final_max_difference: f64,
     /// What was computed: `None` (JSON `null`) the full solution, `Some(n)`

@@ -79,6 +79,9 @@ pub(crate) struct GatherOptions<'a> {
     /// none); its reflection joins the leaf's emission, and the power it
     /// brings joins the emitted and absorbed totals.
     pub direct: Option<&'a super::DirectLight>,
+    /// The unevenly lit patches, seen by their parts from near receivers
+    /// (see [`super::source_shape`]); `None` gathers every patch's mean.
+    pub shapes: Option<&'a super::source_shape::SourceShapes>,
 }
 
 /// [`gather`] with `options`.
@@ -110,6 +113,16 @@ pub(crate) fn gather_with(
             x.receiver(i)
         })
     };
+    let factors = options.shapes.and_then(|s| {
+        s.entry_factors(mesh, form_factors, &leaves, |i| {
+            let e = &mesh.elements[leaves[i]];
+            if balance.is_some_and(|x| x.is_excluded(e.patch as usize)) {
+                1.0
+            } else {
+                receiver_scale(i)
+            }
+        })
+    });
     // Per leaf: radiosity, irradiance, and the form factor of its row to
     // patches without rows.
     let results: Vec<(Rgb, Rgb, f64)> = leaves
@@ -125,16 +138,34 @@ pub(crate) fn gather_with(
             } else {
                 (receiver_scale(i), b_seen)
             };
+            // The factors on unevenly lit sources, in row order.
+            let mut factors = factors
+                .as_ref()
+                .map(|all| all[i].iter().copied())
+                .into_iter()
+                .flatten()
+                .peekable();
+            let mut source = |i: usize, j: u32| {
+                let b = b_seen[j as usize];
+                match factors.peek() {
+                    Some((at, r)) if *at as usize == i => {
+                        let r = *r;
+                        factors.next();
+                        b * r
+                    }
+                    _ => b,
+                }
+            };
             let h = if options.grey {
                 let mut h = 0.0;
-                for &(j, f) in entries {
-                    h += b_seen[j as usize].0[0] * f64::from(f);
+                for (i, &(j, f)) in entries.iter().enumerate() {
+                    h += source(i, j).0[0] * f64::from(f);
                 }
                 Rgb::splat(h * r)
             } else {
                 let mut h = Rgb::ZERO;
-                for &(j, f) in entries {
-                    h += b_seen[j as usize] * f64::from(f);
+                for (i, &(j, f)) in entries.iter().enumerate() {
+                    h += source(i, j) * f64::from(f);
                 }
                 h * r
             };

@@ -15,6 +15,7 @@ mod gather;
 mod gauss_seidel;
 pub mod progressive;
 mod radiosity;
+pub(crate) mod source_shape;
 mod system;
 
 pub(crate) use bounces::gather_bounces;

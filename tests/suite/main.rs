@@ -39,6 +39,7 @@ mod scale_scene;
 mod size_series;
 mod skips;
 mod smooth_meshes;
+mod source_shapes;
 mod stability;
 mod stress_scenes;
 mod substructuring;

@@ -53,7 +53,13 @@ fn gathered_and_shot(
     settings: &Settings,
     p: ProgressiveSettings,
 ) -> (Solution, Solution) {
-    let gathered = radiosity::solve(scene, settings, &|_| {}).unwrap();
+    // The progressive solver takes every patch by its mean (no shaped
+    // gathers), so the gathering solve it is held to does too.
+    let flat = Settings {
+        shaped_gathers: 0,
+        ..settings.clone()
+    };
+    let gathered = radiosity::solve(scene, &flat, &|_| {}).unwrap();
     let shot = radiosity::solve(scene, &progressive(settings.clone(), p), &|_| {}).unwrap();
     (gathered, shot)
 }

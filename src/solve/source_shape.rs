@@ -1,0 +1,477 @@
+//! Unevenly lit sources seen from close by.
+//!
+//! A row holds one form factor per patch, and the gather multiplies it by the
+//! patch's radiosity: the mean over the whole patch. A receiver close to a
+//! patch that is lit unevenly sees mostly the near part of it, which may be
+//! much darker or brighter than the mean: a bench's underside sees the floor
+//! in the bench's own shadow, not the mean of a floor patch that runs out
+//! into the sun. Refining the receiver does not help; only the source's own
+//! detail does.
+//!
+//! That detail is known after a gather: the source patch's elements. So a
+//! receiver near such a patch weighs the patch's parts (its leaves, or a
+//! coarser cut of its quadtree when it has many) by their unoccluded form
+//! factors from the receiver, and gathers the patch's radiosity times the
+//! ratio of that weighted mean to the patch's area mean, per band. The
+//! ratio carries only the distribution over the patch; its level still comes
+//! from the solved patch system, and the row's form factor still says how
+//! much of the patch is visible. Occlusion inside the patch is not known
+//! part by part, so the weights treat the parts as equally visible. Each
+//! patch's factors are finally scaled so that its receivers together gather
+//! from it what they gathered from its mean: the correction moves light
+//! between receivers and conserves it. Off by default
+//! ([`crate::Settings::shaped_gathers`]).
+
+use super::Radiosity;
+use crate::formfactor::{FormFactors, SourcePolygon};
+use crate::math::Rgb;
+use crate::mesh::{ElementKey, Mesh};
+use glam::DVec3;
+use rayon::prelude::*;
+use smallvec::SmallVec;
+
+/// Per leaf, the entries of its row to unevenly lit patches it is near, as
+/// (index in the row, factor on the patch's radiosity), in row order.
+pub(crate) type EntryFactors = Vec<SmallVec<[(u32, Rgb); 4]>>;
+
+/// A receiver counts as near a patch within this many times the patch's
+/// bounding radius of its centre. Farther away every part of the patch
+/// subtends about the same solid angle per area, and the ratio is near 1.
+pub(crate) const NEAR: f64 = 2.0;
+
+/// Most parts a patch is weighed by: its leaves, or the deepest cut of its
+/// quadtree with at most this many nodes.
+pub(crate) const MAX_PARTS: usize = 64;
+
+/// A patch counts as unevenly lit when, in some band, its parts' radiosities
+/// spread (largest minus smallest) by more than this fraction of their mean.
+/// A patch just under it changes what any receiver gathers by less than
+/// this fraction, so its being left out makes no step in the solution.
+pub(crate) const SPREAD: f64 = 1e-5;
+
+/// The unevenly lit patches of a solution and their parts.
+#[derive(Debug, Default)]
+pub(crate) struct SourceShapes {
+    /// Per patch, its index in `shaped`, or `u32::MAX` when it is even.
+    slot: Vec<u32>,
+    shaped: Vec<Shaped>,
+}
+
+#[derive(Debug)]
+struct Shaped {
+    centre: DVec3,
+    /// Squared distance from `centre` within which a receiver is near.
+    reach2: f64,
+    /// Area-weighted mean radiosity of the parts.
+    mean: Rgb,
+    parts: Vec<(SourcePolygon, Rgb)>,
+}
+
+impl SourceShapes {
+    /// The unevenly lit patches of `mesh` by the element radiosities in
+    /// `radiosity` (the last gather's). Only leaves with an exposed row take
+    /// part: the others take no part in the exchange.
+    pub(crate) fn new(mesh: &Mesh, form_factors: &FormFactors, radiosity: &Radiosity) -> Self {
+        let mut slot = vec![u32::MAX; mesh.patches.len()];
+        let mut shaped = Vec::new();
+        for (p, patch) in mesh.patches.iter().enumerate() {
+            let Some(parts) = cut(mesh, &patch.roots) else {
+                continue;
+            };
+            let parts: Vec<(SourcePolygon, f64, Rgb)> = parts
+                .into_iter()
+                .filter_map(|k| {
+                    let (area, power) = exposed_power(mesh, form_factors, radiosity, k);
+                    if area <= 0.0 {
+                        return None;
+                    }
+                    let e = &mesh.elements[k];
+                    let surface = &mesh.surfaces()[e.surface as usize];
+                    let polygon = surface.polygon(&e.cell);
+                    let source = SourcePolygon::new(&polygon, surface.normal, e.surface);
+                    Some((source, area, power * (1.0 / area)))
+                })
+                .collect();
+            if parts.len() < 2 {
+                continue;
+            }
+            let area: f64 = parts.iter().map(|(_, a, _)| a).sum();
+            let mean = parts.iter().fold(Rgb::ZERO, |m, (_, a, b)| m + *b * *a) * (1.0 / area);
+            let uneven = (0..3).any(|band| {
+                let (lo, hi) = parts
+                    .iter()
+                    .map(|(_, _, b)| b[band])
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                        (lo.min(v), hi.max(v))
+                    });
+                mean[band] > 0.0 && hi - lo > SPREAD * mean[band]
+            });
+            if !uneven {
+                continue;
+            }
+            let centre = patch.centroid;
+            let radius = parts
+                .iter()
+                .flat_map(|(s, _, _)| s.corners().iter())
+                .map(|v| (*v - centre).length())
+                .fold(0.0, f64::max);
+            slot[p] = shaped.len() as u32;
+            shaped.push(Shaped {
+                centre,
+                reach2: (NEAR * radius).powi(2),
+                mean,
+                parts: parts.into_iter().map(|(s, _, b)| (s, b)).collect(),
+            });
+        }
+        SourceShapes { slot, shaped }
+    }
+
+    /// How many patches are unevenly lit.
+    pub(crate) fn len(&self) -> usize {
+        self.shaped.len()
+    }
+
+    /// The factors on the patch radiosities that the rows of `leaves` gather
+    /// (see [`EntryFactors`]), each patch's normalised so that its receivers
+    /// (leaf `n`'s row scaled by `row_scale(n)`, as the gather scales it)
+    /// together gather from it, per band, what they gathered from its mean:
+    /// the correction moves a patch's light between receivers and neither
+    /// creates nor loses any. `None` when no patch is unevenly lit.
+    pub(crate) fn entry_factors(
+        &self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        leaves: &[ElementKey],
+        row_scale: impl Fn(usize) -> f64,
+    ) -> Option<EntryFactors> {
+        if self.shaped.is_empty() {
+            return None;
+        }
+        let mut factors: EntryFactors = leaves
+            .par_iter()
+            .map(|&k| {
+                let e = &mesh.elements[k];
+                // A receiver that reflects nothing passes no light on: it
+                // gathers patch means and stays out of the sums, so that
+                // skipping its row (see `crate::pipeline::Skips`) changes
+                // nothing.
+                if e.reflectance.max_band() <= 0.0 {
+                    return SmallVec::new();
+                }
+                let normal = mesh.surfaces()[e.surface as usize].normal;
+                form_factors
+                    .entries(k)
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, &(j, _))| {
+                        self.ratio(j, e.centroid, normal).map(|r| (i as u32, r))
+                    })
+                    .collect()
+            })
+            .collect();
+        // Per shaped patch, what its receivers gather from it with and
+        // without the ratios, summed in leaf order (the same bits at any
+        // thread count). Receivers that are not near it gather its mean.
+        let mut with = vec![Rgb::ZERO; self.shaped.len()];
+        let mut without = vec![0.0; self.shaped.len()];
+        for (n, (&k, near)) in leaves.iter().zip(&factors).enumerate() {
+            let e = &mesh.elements[k];
+            if e.reflectance.max_band() <= 0.0 {
+                continue;
+            }
+            let area = e.area * row_scale(n);
+            let entries = form_factors.entries(k);
+            let mut next = near.iter().peekable();
+            for (i, &(j, f)) in entries.iter().enumerate() {
+                let s = self.slot[j as usize];
+                if s == u32::MAX {
+                    continue;
+                }
+                let w = area * f64::from(f);
+                let ratio = match next.peek() {
+                    Some((at, r)) if *at as usize == i => {
+                        next.next();
+                        *r
+                    }
+                    _ => Rgb::ONE,
+                };
+                with[s as usize] += ratio * w;
+                without[s as usize] += w;
+            }
+        }
+        let scale: Vec<Rgb> = with
+            .iter()
+            .zip(&without)
+            .map(|(w, o)| {
+                let mut scale = Rgb::ONE;
+                for band in 0..3 {
+                    if w[band] > 0.0 {
+                        scale.0[band] = o / w[band];
+                    }
+                }
+                scale
+            })
+            .collect();
+        for (&k, near) in leaves.iter().zip(factors.iter_mut()) {
+            let entries = form_factors.entries(k);
+            for (i, r) in near.iter_mut() {
+                let j = entries[*i as usize].0;
+                *r = *r * scale[self.slot[j as usize] as usize];
+            }
+        }
+        // Receivers not near a shaped patch take its mean times the scale
+        // too, so that the column sums match: every entry to a shaped patch
+        // carries a factor.
+        let all = leaves
+            .par_iter()
+            .zip(factors.into_par_iter())
+            .map(|(&k, near)| {
+                let mut out = SmallVec::new();
+                if mesh.elements[k].reflectance.max_band() <= 0.0 {
+                    return out;
+                }
+                let entries = form_factors.entries(k);
+                let mut next = near.into_iter().peekable();
+                for (i, &(j, _)) in entries.iter().enumerate() {
+                    let s = self.slot[j as usize];
+                    if s == u32::MAX {
+                        continue;
+                    }
+                    let r = match next.peek() {
+                        Some((at, r)) if *at as usize == i => {
+                            let r = *r;
+                            next.next();
+                            r
+                        }
+                        _ => scale[s as usize],
+                    };
+                    out.push((i as u32, r));
+                }
+                out
+            })
+            .collect();
+        Some(all)
+    }
+
+    /// Per band, the ratio of what a receiver at `eye` facing `normal` sees
+    /// of patch `j` to the patch's mean; `None` when the patch is even, the
+    /// receiver is not near, or it sees none of the parts.
+    #[inline]
+    fn ratio(&self, j: u32, eye: DVec3, normal: DVec3) -> Option<Rgb> {
+        let s = *self.slot.get(j as usize)?;
+        if s == u32::MAX {
+            return None;
+        }
+        let shaped = &self.shaped[s as usize];
+        if (eye - shaped.centre).length_squared() > shaped.reach2 {
+            return None;
+        }
+        let (mut weight, mut seen) = (0.0, Rgb::ZERO);
+        for (source, b) in &shaped.parts {
+            if !source.faces(eye) {
+                continue;
+            }
+            let w = source.form_factor(eye, normal);
+            weight += w;
+            seen += *b * w;
+        }
+        if weight <= 0.0 {
+            return None;
+        }
+        let seen = seen * (1.0 / weight);
+        let mut ratio = Rgb::ONE;
+        for band in 0..3 {
+            if shaped.mean[band] > 0.0 {
+                ratio.0[band] = seen[band] / shaped.mean[band];
+            }
+        }
+        Some(ratio)
+    }
+}
+
+/// The deepest cut of the quadtrees under `roots` with at most [`MAX_PARTS`]
+/// nodes (the leaves when there are few enough), or `None` when even the
+/// roots are too many.
+fn cut(mesh: &Mesh, roots: &[ElementKey]) -> Option<Vec<ElementKey>> {
+    if roots.len() > MAX_PARTS {
+        return None;
+    }
+    let mut parts = roots.to_vec();
+    loop {
+        let next: Vec<ElementKey> = parts
+            .iter()
+            .flat_map(|k| {
+                let e = &mesh.elements[*k];
+                if e.is_leaf() {
+                    std::slice::from_ref(k).to_vec()
+                } else {
+                    e.children.to_vec()
+                }
+            })
+            .collect();
+        if next.len() == parts.len() || next.len() > MAX_PARTS {
+            return Some(parts);
+        }
+        parts = next;
+    }
+}
+
+/// The exposed area under node `k` and the power per unit of radiosity it
+/// sends: sums of `A_e` and `A_e B_e` over its leaves with an exposed row.
+/// Hidden leaves (under an object standing on the surface) send nothing,
+/// and an interior node's stored mean would count them; a partly covered
+/// leaf counts its visible part's area.
+fn exposed_power(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    radiosity: &Radiosity,
+    k: ElementKey,
+) -> (f64, Rgb) {
+    let e = &mesh.elements[k];
+    if e.is_leaf() {
+        if !form_factors.is_exposed(k) {
+            return (0.0, Rgb::ZERO);
+        }
+        // A leaf that objects standing on it cover in part has the mean
+        // radiosity of its whole area, dark where covered; it sends that
+        // power from its visible part alone.
+        let visible = form_factors.view(k).map_or(1.0, |v| v.visible());
+        return (e.area * visible, radiosity.element(k) * e.area);
+    }
+    e.children
+        .iter()
+        .map(|c| exposed_power(mesh, form_factors, radiosity, *c))
+        .fold((0.0, Rgb::ZERO), |(a, p), (ca, cp)| (a + ca, p + cp))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Scene, SceneBuilder};
+    use crate::solution::Solution;
+    use crate::Settings;
+
+    fn v(x: f64, y: f64, z: f64) -> DVec3 {
+        DVec3::new(x, y, z)
+    }
+
+    /// A 4 m floor of one patch lit by a lamp over its west end, and a panel
+    /// standing on its east half.
+    fn scene() -> Scene {
+        let mut b = SceneBuilder::new("floor");
+        let grey = b.material("grey", Rgb::splat(0.8), Rgb::ZERO).unwrap();
+        let lamp = b.material("lamp", Rgb::ZERO, Rgb::splat(5.0)).unwrap();
+        b.object("floor");
+        b.quad(
+            grey,
+            v(0., 0., 0.),
+            v(0., 0., 4.),
+            v(4., 0., 4.),
+            v(4., 0., 0.),
+        )
+        .unwrap();
+        b.object("lamp");
+        b.quad(
+            lamp,
+            v(0.5, 2., 1.5),
+            v(1.5, 2., 1.5),
+            v(1.5, 2., 2.5),
+            v(0.5, 2., 2.5),
+        )
+        .unwrap();
+        b.object("panel");
+        b.quad(
+            grey,
+            v(2.5, 0., 1.5),
+            v(2.5, 0.6, 1.5),
+            v(2.5, 0.6, 2.5),
+            v(2.5, 0., 2.5),
+        )
+        .unwrap();
+        b.build().unwrap()
+    }
+
+    fn solved() -> Solution {
+        let settings = Settings {
+            patch_size: Some(4.0),
+            shaped_gathers: 0,
+            ..Settings::default()
+        };
+        crate::solve(&scene(), &settings, &|_| {}).unwrap()
+    }
+
+    fn floor_patch(sol: &Solution) -> u32 {
+        let floor = sol
+            .mesh
+            .patches
+            .iter()
+            .position(|p| sol.mesh.surfaces()[p.surface as usize].normal.y > 0.9)
+            .unwrap();
+        floor as u32
+    }
+
+    #[test]
+    fn a_receiver_over_the_dark_end_sees_less_than_the_mean_and_one_over_the_lit_end_more() {
+        let sol = solved();
+        let shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity);
+        let floor = floor_patch(&sol);
+        assert!(
+            shapes.slot[floor as usize] != u32::MAX,
+            "the floor is uneven"
+        );
+        let down = DVec3::NEG_Y;
+        let dark = shapes.ratio(floor, v(3.9, 0.1, 0.1), down).unwrap();
+        let lit = shapes.ratio(floor, v(1.0, 0.1, 2.0), down).unwrap();
+        for band in 0..3 {
+            assert!(dark[band] < 0.7, "{dark:?}");
+            assert!(lit[band] > 1.2, "{lit:?}");
+        }
+        // Far away every part weighs by its area: no correction.
+        assert!(shapes.ratio(floor, v(2.0, 50.0, 2.0), down).is_none());
+        // The floor's back sees none of it.
+        assert!(shapes.ratio(floor, v(2.0, -0.1, 2.0), down).is_none());
+    }
+
+    #[test]
+    fn the_factors_keep_what_the_receivers_gather_from_each_patch() {
+        let sol = solved();
+        let shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity);
+        assert!(shapes.len() >= 1);
+        let leaves = sol.mesh.leaves();
+        let factors = shapes
+            .entry_factors(&sol.mesh, &sol.form_factors, &leaves, |_| 1.0)
+            .unwrap();
+        let patches = sol.mesh.patches.len();
+        let (mut with, mut without) = (vec![Rgb::ZERO; patches], vec![0.0; patches]);
+        let mut moved = 0.0f64;
+        for (&k, near) in leaves.iter().zip(&factors) {
+            let area = sol.mesh.elements[k].area;
+            let entries = sol.form_factors.entries(k);
+            for &(i, r) in near {
+                let (j, f) = entries[i as usize];
+                with[j as usize] += r * (area * f64::from(f));
+                moved = moved.max((r[0] - 1.0).abs());
+            }
+            // Receivers that reflect nothing (the lamp) take no factors.
+            if sol.mesh.elements[k].reflectance.max_band() <= 0.0 {
+                assert!(near.is_empty());
+                continue;
+            }
+            for &(j, f) in entries {
+                if shapes.slot[j as usize] != u32::MAX {
+                    without[j as usize] += area * f64::from(f);
+                }
+            }
+        }
+        assert!(moved > 0.1, "the factors change something: {moved}");
+        for (j, (with, b)) in with.iter().zip(&without).enumerate() {
+            for a in with.0 {
+                let b = *b;
+                assert!(
+                    (a - b).abs() <= 1e-12 * b.max(1e-300),
+                    "patch {j}: {a} vs {b}"
+                );
+            }
+        }
+    }
+}
