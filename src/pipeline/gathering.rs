@@ -11,6 +11,7 @@ use crate::math::Rgb;
 use crate::mesh::ElementKey;
 use crate::refine::mark_sources;
 use crate::solution::Solution;
+use crate::solve::scene_is_closed;
 use crate::solve::source_shape::SourceShapes;
 use crate::solve::{
     gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, GatherOptions, GatherTotals,
@@ -180,7 +181,9 @@ impl Gathering {
     /// Returns false, gathering nothing, when every patch is even.
     fn shaped_gather(&mut self, ws: &mut Workspace<'_>) -> bool {
         let t = Instant::now();
-        let shapes = SourceShapes::new(&ws.mesh, &ws.form_factors, &ws.radiosity);
+        let leaves = ws.mesh.leaves();
+        let closed = scene_is_closed(&ws.mesh, &ws.form_factors, &leaves);
+        let shapes = SourceShapes::new(&ws.mesh, &ws.form_factors, &ws.radiosity, closed);
         ws.stats.shaped_sources.push(shapes.len());
         if shapes.len() == 0 {
             // The gather would repeat the last one.

@@ -139,21 +139,18 @@ pub(crate) fn gather_with(
                 (receiver_scale(i), b_seen)
             };
             // The factors on unevenly lit sources, in row order.
-            let mut factors = factors
+            let none = [];
+            let mut near = factors
                 .as_ref()
-                .map(|all| all[i].iter().copied())
-                .into_iter()
-                .flatten()
+                .map_or(&none[..], |f| &f.near[i][..])
+                .iter()
                 .peekable();
+            let reflects = e.reflectance.max_band() > 0.0;
             let mut source = |i: usize, j: u32| {
                 let b = b_seen[j as usize];
-                match factors.peek() {
-                    Some((at, r)) if *at as usize == i => {
-                        let r = *r;
-                        factors.next();
-                        b * r
-                    }
-                    _ => b,
+                match &factors {
+                    Some(f) => b * f.factor(&mut near, i, j, reflects),
+                    None => b,
                 }
             };
             let h = if options.grey {

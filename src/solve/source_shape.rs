@@ -18,8 +18,10 @@
 //! much of the patch is visible. Occlusion inside the patch is not known
 //! part by part, so the weights treat the parts as equally visible. Each
 //! patch's factors are finally scaled so that its receivers together gather
-//! from it what they gathered from its mean: the correction moves light
-//! between receivers and conserves it. Off by default
+//! from it what it sends them: in a closed scene what they gathered from its
+//! mean (the correction moves light between receivers and conserves it), in
+//! an open one what its leaves send to reflecting surfaces by their own rows
+//! (see [`SourceShapes::new`]). Off by default
 //! ([`crate::Settings::shaped_gathers`]).
 
 use super::Radiosity;
@@ -30,9 +32,38 @@ use glam::DVec3;
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
-/// Per leaf, the entries of its row to unevenly lit patches it is near, as
-/// (index in the row, factor on the patch's radiosity), in row order.
-pub(crate) type EntryFactors = Vec<SmallVec<[(u32, Rgb); 4]>>;
+/// The factors a shaped gather puts on patch radiosities.
+#[derive(Debug)]
+pub(crate) struct EntryFactors {
+    /// Per leaf, the entries of its row to unevenly lit patches it is near,
+    /// as (index in the row, factor), in row order.
+    pub near: Vec<SmallVec<[(u32, Rgb); 2]>>,
+    /// Per patch, the factor of every other receiver's entry (1 for an even
+    /// patch, and for every patch on a receiver that reflects nothing).
+    pub patch: Vec<Rgb>,
+}
+
+impl EntryFactors {
+    /// The factor on entry `i` (to patch `j`) of leaf `n`'s row, taking
+    /// `near` as that leaf's factors not yet passed.
+    #[inline]
+    pub(crate) fn factor(
+        &self,
+        near: &mut std::iter::Peekable<std::slice::Iter<'_, (u32, Rgb)>>,
+        i: usize,
+        j: u32,
+        reflects: bool,
+    ) -> Rgb {
+        match near.peek() {
+            Some((at, r)) if *at as usize == i => {
+                near.next();
+                *r
+            }
+            _ if reflects => self.patch[j as usize],
+            _ => Rgb::ONE,
+        }
+    }
+}
 
 /// A receiver counts as near a patch within this many times the patch's
 /// bounding radius of its centre. Farther away every part of the patch
@@ -64,6 +95,12 @@ struct Shaped {
     reach2: f64,
     /// Area-weighted mean radiosity of the parts.
     mean: Rgb,
+    /// Per band, in an open scene, the patch's leaves' radiosity weighted by
+    /// what each sends to reflecting front faces (area times that part of its
+    /// row), over `mean`: how much brighter the patch is where it sees its
+    /// receivers than on average. 1 in a closed scene (see
+    /// [`SourceShapes::new`]).
+    sent: Rgb,
     parts: Vec<(SourcePolygon, Rgb)>,
 }
 
@@ -71,9 +108,24 @@ impl SourceShapes {
     /// The unevenly lit patches of `mesh` by the element radiosities in
     /// `radiosity` (the last gather's). Only leaves with an exposed row take
     /// part: the others take no part in the exchange.
-    pub(crate) fn new(mesh: &Mesh, form_factors: &FormFactors, radiosity: &Radiosity) -> Self {
+    ///
+    /// In a `closed` scene each patch's receivers together gather from it
+    /// what they gathered from its mean, so that no light is lost or created
+    /// (there it would be multiplied by every bounce, and the patch system
+    /// is not solved again). In an open scene they gather what its leaves
+    /// send them by their own rows: where a patch's bright part looks out
+    /// at the sky and its dark part at its receivers, they gather the dark.
+    pub(crate) fn new(
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        radiosity: &Radiosity,
+        closed: bool,
+    ) -> Self {
         let mut slot = vec![u32::MAX; mesh.patches.len()];
         let mut shaped = Vec::new();
+        let reflects: Vec<bool> = (0..mesh.patches.len())
+            .map(|p| mesh.patch_reflectance(p as u32).max_band() > 0.0)
+            .collect();
         for (p, patch) in mesh.patches.iter().enumerate() {
             let Some(parts) = cut(mesh, &patch.roots) else {
                 continue;
@@ -115,11 +167,22 @@ impl SourceShapes {
                 .flat_map(|(s, _, _)| s.corners().iter())
                 .map(|v| (*v - centre).length())
                 .fold(0.0, f64::max);
+            let mut sent_ratio = Rgb::ONE;
+            if !closed {
+                if let Some(sent) = sent_mean(mesh, form_factors, radiosity, p as u32, &reflects) {
+                    for band in 0..3 {
+                        if mean[band] > 0.0 {
+                            sent_ratio.0[band] = sent[band] / mean[band];
+                        }
+                    }
+                }
+            }
             slot[p] = shaped.len() as u32;
             shaped.push(Shaped {
                 centre,
                 reach2: (NEAR * radius).powi(2),
                 mean,
+                sent: sent_ratio,
                 parts: parts.into_iter().map(|(s, _, b)| (s, b)).collect(),
             });
         }
@@ -134,9 +197,10 @@ impl SourceShapes {
     /// The factors on the patch radiosities that the rows of `leaves` gather
     /// (see [`EntryFactors`]), each patch's normalised so that its receivers
     /// (leaf `n`'s row scaled by `row_scale(n)`, as the gather scales it)
-    /// together gather from it, per band, what they gathered from its mean:
-    /// the correction moves a patch's light between receivers and neither
-    /// creates nor loses any. `None` when no patch is unevenly lit.
+    /// together gather from it, per band, what they gathered from its mean
+    /// times `Shaped::sent` (1 in a closed scene, where the correction then
+    /// moves a patch's light between receivers and neither creates nor
+    /// loses any). `None` when no patch is unevenly lit.
     pub(crate) fn entry_factors(
         &self,
         mesh: &Mesh,
@@ -147,7 +211,7 @@ impl SourceShapes {
         if self.shaped.is_empty() {
             return None;
         }
-        let mut factors: EntryFactors = leaves
+        let mut factors: Vec<SmallVec<[(u32, Rgb); 2]>> = leaves
             .par_iter()
             .map(|&k| {
                 let e = &mesh.elements[k];
@@ -202,11 +266,12 @@ impl SourceShapes {
         let scale: Vec<Rgb> = with
             .iter()
             .zip(&without)
-            .map(|(w, o)| {
+            .zip(&self.shaped)
+            .map(|((w, o), shaped)| {
                 let mut scale = Rgb::ONE;
                 for band in 0..3 {
                     if w[band] > 0.0 {
-                        scale.0[band] = o / w[band];
+                        scale.0[band] = o * shaped.sent[band] / w[band];
                     }
                 }
                 scale
@@ -220,37 +285,17 @@ impl SourceShapes {
             }
         }
         // Receivers not near a shaped patch take its mean times the scale
-        // too, so that the column sums match: every entry to a shaped patch
-        // carries a factor.
-        let all = leaves
-            .par_iter()
-            .zip(factors.into_par_iter())
-            .map(|(&k, near)| {
-                let mut out = SmallVec::new();
-                if mesh.elements[k].reflectance.max_band() <= 0.0 {
-                    return out;
-                }
-                let entries = form_factors.entries(k);
-                let mut next = near.into_iter().peekable();
-                for (i, &(j, _)) in entries.iter().enumerate() {
-                    let s = self.slot[j as usize];
-                    if s == u32::MAX {
-                        continue;
-                    }
-                    let r = match next.peek() {
-                        Some((at, r)) if *at as usize == i => {
-                            let r = *r;
-                            next.next();
-                            r
-                        }
-                        _ => scale[s as usize],
-                    };
-                    out.push((i as u32, r));
-                }
-                out
-            })
-            .collect();
-        Some(all)
+        // too, so that the column sums match.
+        let mut patch = vec![Rgb::ONE; self.slot.len()];
+        for (p, s) in self.slot.iter().enumerate() {
+            if *s != u32::MAX {
+                patch[p] = scale[*s as usize];
+            }
+        }
+        Some(EntryFactors {
+            near: factors,
+            patch,
+        })
     }
 
     /// Per band, the ratio of what a receiver at `eye` facing `normal` sees
@@ -314,6 +359,36 @@ fn cut(mesh: &Mesh, roots: &[ElementKey]) -> Option<Vec<ElementKey>> {
         }
         parts = next;
     }
+}
+
+/// The radiosity of patch `p`'s exposed leaves weighted by what each sends
+/// to the front faces of patches that reflect (`reflects`): its area times
+/// that part of its row, over its visible share (a partly covered leaf's
+/// radiosity is its whole area's mean). `None` when they send nothing.
+fn sent_mean(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    radiosity: &Radiosity,
+    p: u32,
+    reflects: &[bool],
+) -> Option<Rgb> {
+    let (mut weight, mut power) = (0.0, Rgb::ZERO);
+    for k in mesh.patch_leaves(p) {
+        if !form_factors.is_exposed(k) {
+            continue;
+        }
+        let visible = form_factors.view(k).map_or(1.0, |v| v.visible());
+        let seen: f64 = form_factors
+            .entries(k)
+            .iter()
+            .filter(|(j, _)| reflects[*j as usize])
+            .map(|(_, f)| f64::from(*f))
+            .sum();
+        let w = mesh.elements[k].area * seen / visible;
+        weight += w;
+        power += radiosity.element(k) * w;
+    }
+    (weight > 0.0).then(|| power * (1.0 / weight))
 }
 
 /// The exposed area under node `k` and the power per unit of radiosity it
@@ -413,7 +488,7 @@ mod tests {
     #[test]
     fn a_receiver_over_the_dark_end_sees_less_than_the_mean_and_one_over_the_lit_end_more() {
         let sol = solved();
-        let shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity);
+        let shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity, false);
         let floor = floor_patch(&sol);
         assert!(
             shapes.slot[floor as usize] != u32::MAX,
@@ -435,7 +510,7 @@ mod tests {
     #[test]
     fn the_factors_keep_what_the_receivers_gather_from_each_patch() {
         let sol = solved();
-        let shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity);
+        let shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity, false);
         assert!(shapes.len() >= 1);
         let leaves = sol.mesh.leaves();
         let factors = shapes
@@ -444,29 +519,33 @@ mod tests {
         let patches = sol.mesh.patches.len();
         let (mut with, mut without) = (vec![Rgb::ZERO; patches], vec![0.0; patches]);
         let mut moved = 0.0f64;
-        for (&k, near) in leaves.iter().zip(&factors) {
-            let area = sol.mesh.elements[k].area;
-            let entries = sol.form_factors.entries(k);
-            for &(i, r) in near {
-                let (j, f) = entries[i as usize];
-                with[j as usize] += r * (area * f64::from(f));
-                moved = moved.max((r[0] - 1.0).abs());
-            }
-            // Receivers that reflect nothing (the lamp) take no factors.
-            if sol.mesh.elements[k].reflectance.max_band() <= 0.0 {
-                assert!(near.is_empty());
-                continue;
-            }
-            for &(j, f) in entries {
-                if shapes.slot[j as usize] != u32::MAX {
-                    without[j as usize] += area * f64::from(f);
+        for (n, &k) in leaves.iter().enumerate() {
+            let e = &sol.mesh.elements[k];
+            let reflects = e.reflectance.max_band() > 0.0;
+            let mut near = factors.near[n].iter().peekable();
+            for (i, &(j, f)) in sol.form_factors.entries(k).iter().enumerate() {
+                let r = factors.factor(&mut near, i, j, reflects);
+                if !reflects {
+                    // Receivers that reflect nothing (the lamp) gather means.
+                    assert_eq!(r, Rgb::ONE);
+                    continue;
                 }
+                let w = e.area * f64::from(f);
+                with[j as usize] += r * w;
+                without[j as usize] += w;
+                moved = moved.max((r[0] - 1.0).abs());
             }
         }
         assert!(moved > 0.1, "the factors change something: {moved}");
-        for (j, (with, b)) in with.iter().zip(&without).enumerate() {
-            for a in with.0 {
-                let b = *b;
+        // Each patch's receivers gather its mean times its `sent` ratio; an
+        // even patch's gather is unchanged.
+        for j in 0..patches {
+            let sent = match shapes.slot[j] {
+                u32::MAX => Rgb::ONE,
+                s => shapes.shaped[s as usize].sent,
+            };
+            for band in 0..3 {
+                let (a, b) = (with[j][band], without[j] * sent[band]);
                 assert!(
                     (a - b).abs() <= 1e-12 * b.max(1e-300),
                     "patch {j}: {a} vs {b}"
