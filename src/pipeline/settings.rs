@@ -63,7 +63,8 @@ pub struct Settings {
     /// patch, seen from close by, by its parts rather than its mean (see
     /// `crate::solve::source_shape`); 0 gathers every patch's mean, as the
     /// substructuring method does. Each gather starts from the last one's
-    /// element radiosities. Gathering solver only; ignored with `bounces`.
+    /// element radiosities. Gathering solver only, and not with `bounces`:
+    /// either is refused by [`Settings::validate`].
     pub shaped_gathers: usize,
     /// Work the solve may leave out where the scene does not need it (all
     /// on; off only to compare or measure).
@@ -144,6 +145,20 @@ impl Settings {
                     "must be at most {MAX_SHAPED_GATHERS}, got {}",
                     self.shaped_gathers
                 ),
+            );
+        }
+        if self.shaped_gathers > 0 && self.solver_kind == SolverKind::Progressive {
+            return bad(
+                "shaped-gathers",
+                "shaped gathers apply to the gathering solver (gauss-seidel) only".to_string(),
+            );
+        }
+        if self.shaped_gathers > 0 && self.bounces.is_some() {
+            return bad(
+                "shaped-gathers",
+                "shaped gathers refine the full solution; with a fixed number of bounces \
+                 every patch is gathered by its mean"
+                    .to_string(),
             );
         }
         if let Some(n) = self.bounces {

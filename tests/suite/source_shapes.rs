@@ -154,3 +154,21 @@ fn more_shaped_gathers_than_the_limit_are_refused_naming_the_setting() {
     let message = too_many.validate().unwrap_err().to_string();
     assert!(message.contains("shaped-gathers"), "{message}");
 }
+
+#[test]
+fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
+    let progressive = Settings {
+        shaped_gathers: 2,
+        solver_kind: radiosity::solve::SolverKind::Progressive,
+        ..Settings::default()
+    };
+    let message = progressive.validate().unwrap_err().to_string();
+    assert!(message.contains("shaped-gathers"), "{message}");
+    let bounces = Settings {
+        shaped_gathers: 2,
+        bounces: Some(2),
+        ..Settings::default()
+    };
+    let message = bounces.validate().unwrap_err().to_string();
+    assert!(message.contains("shaped-gathers"), "{message}");
+}
