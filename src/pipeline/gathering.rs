@@ -177,7 +177,8 @@ impl Gathering {
     /// One gather from the solved patch radiosities in which near receivers
     /// see unevenly lit patches by their parts, as the last gather left them
     /// (see [`crate::solve::source_shape`]). The patch system stays as
-    /// solved: each patch's receivers together gather from it what they did.
+    /// solved; each patch's receivers together gather from it what it sends
+    /// them (its mean's total in a closed scene).
     /// Returns false, gathering nothing, when every patch is even.
     fn shaped_gather(&mut self, ws: &mut Workspace<'_>) -> bool {
         let t = Instant::now();
