@@ -44,8 +44,9 @@ pub(crate) struct EntryFactors {
 }
 
 impl EntryFactors {
-    /// The factor on entry `i` (to patch `j`) of leaf `n`'s row, taking
-    /// `near` as that leaf's factors not yet passed.
+    /// The factor on entry `i` (to patch `j`) of a row whose receiver
+    /// `reflects` or not, `near` being that row's near factors not yet
+    /// passed (entries must be asked for in row order).
     #[inline]
     pub(crate) fn factor(
         &self,
