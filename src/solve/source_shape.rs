@@ -69,7 +69,11 @@ impl EntryFactors {
 /// A receiver counts as near a patch within this many times the patch's
 /// bounding radius of its centre. Farther away every part of the patch
 /// subtends about the same solid angle per area, and the ratio is near 1.
-pub(crate) const NEAR: f64 = 2.0;
+/// Measured with two shaped gathers (mean per-object error): at 2, the
+/// atrium 2.72% and the Cornell box 0.267%; at 3, 2.57% and 0.236%; at 6,
+/// 2.49% and 0.205%; with every receiver near, 2.49% and 0.204% for 1.1x
+/// the CPU time of 6 on the atrium.
+pub(crate) const NEAR: f64 = 6.0;
 
 /// Most parts a patch is weighed by: its leaves, or the deepest cut of its
 /// quadtree with at most this many nodes.
