@@ -113,16 +113,16 @@ pub(crate) fn gather_with(
             x.receiver(i)
         })
     };
-    let factors = options.shapes.and_then(|s| {
-        s.entry_factors(mesh, form_factors, &leaves, |i| {
-            let e = &mesh.elements[leaves[i]];
-            if balance.is_some_and(|x| x.is_excluded(e.patch as usize)) {
-                1.0
-            } else {
-                receiver_scale(i)
-            }
-        })
-    });
+    // A receiver that takes no part in the balance gathers by its row as
+    // it is.
+    let excluded = |i: usize| {
+        let patch = mesh.elements[leaves[i]].patch as usize;
+        balance.is_some_and(|x| x.is_excluded(patch))
+    };
+    let row_scale = |i: usize| if excluded(i) { 1.0 } else { receiver_scale(i) };
+    let factors = options
+        .shapes
+        .and_then(|s| s.entry_factors(mesh, form_factors, &leaves, row_scale));
     // Per leaf: radiosity, irradiance, and the form factor of its row to
     // patches without rows.
     let results: Vec<(Rgb, Rgb, f64)> = leaves
@@ -131,9 +131,7 @@ pub(crate) fn gather_with(
         .map(|(i, &k)| {
             let e = &mesh.elements[k];
             let entries = form_factors.entries(k);
-            // A receiver that takes no part in the balance gathers by its
-            // row as it is.
-            let (r, b_seen) = if balance.is_some_and(|x| x.is_excluded(e.patch as usize)) {
+            let (r, b_seen) = if excluded(i) {
                 (1.0, b)
             } else {
                 (receiver_scale(i), b_seen)
