@@ -288,6 +288,12 @@ pub struct SolveSettingsArgs {
     /// as plain substructuring does. Try 2 in cluttered scenes.
     #[arg(long = "shaped-gathers", value_name = "N", default_value_t = 0)]
     pub shaped_gathers: usize,
+    /// Render a row for every facet of a finely tessellated object, instead
+    /// of one per group of neighbouring facets that face alike (groups that
+    /// come out unevenly lit get rows per facet anyway); slower, for
+    /// comparison.
+    #[arg(long = "per-facet-rows")]
+    pub per_facet_rows: bool,
     /// Subdivide every patch uniformly to this depth instead of adapting.
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,

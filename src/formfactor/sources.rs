@@ -209,9 +209,17 @@ impl SourcePolygon {
     /// form factor at its centroid.
     #[must_use]
     pub(crate) fn form_factor(&self, eye: DVec3, normal: DVec3) -> f64 {
+        self.form_factor_within(eye, normal, FAR)
+    }
+
+    /// [`Self::form_factor`], taking the differential form factor wherever
+    /// the polygon's bounding radius is under `far` times its distance: the
+    /// two differ by the order of that ratio squared.
+    #[must_use]
+    pub(crate) fn form_factor_within(&self, eye: DVec3, normal: DVec3, far: f64) -> f64 {
         let d = self.centre - eye;
         let r2 = d.length_squared();
-        if self.radius * self.radius < FAR * FAR * r2 && normal.dot(d) > self.radius {
+        if self.radius * self.radius < far * far * r2 && normal.dot(d) > self.radius {
             // At the area centroid the first-order terms cancel.
             let (area, centroid) = area_and_centroid(self.corners());
             let d = centroid - eye;

@@ -152,6 +152,13 @@ impl FormFactors {
         self.states.insert(k, state);
     }
 
+    /// Gives leaf `k` a copy of leaf `from`'s row and state (a facet that
+    /// shares its group's row; see `crate::pipeline`'s row groups).
+    pub(crate) fn share(&mut self, k: ElementKey, from: ElementKey) {
+        let state = self.state(from).clone();
+        self.states.insert(k, state);
+    }
+
     /// Marks leaf `k` as needing no row.
     pub fn skip(&mut self, k: ElementKey) {
         self.states.insert(k, RowState::Skipped);

@@ -9,6 +9,7 @@
 mod gathering;
 mod memory;
 mod progress;
+mod row_groups;
 mod scale;
 mod settings;
 mod shooting;
@@ -75,12 +76,14 @@ fn drive(mut ws: Workspace<'_>, mut solver: impl Solver) -> Result<Solution> {
     while solver.advance(&mut ws)? == Next::Refine {
         let t_pass = Instant::now();
         let marks = ws.mark();
-        if marks.split.is_empty() {
+        let unshared = ws.unshare_groups();
+        if marks.split.is_empty() && unshared.is_empty() {
             solver.nothing_to_refine(&mut ws)?;
             continue;
         }
         let pass = ws.stats.passes.len() + 1;
-        let fresh = ws.split_marked(&marks);
+        let mut fresh = ws.split_marked(&marks);
+        fresh.extend(unshared);
         let new_hemicubes = solver.refined(&mut ws, &fresh, pass)?;
         ws.stats.passes.push(PassStats {
             pass,

@@ -66,6 +66,12 @@ pub struct Settings {
     /// element radiosities. Gathering solver only, and not with `bounces`:
     /// either is refused by [`Settings::validate`].
     pub shaped_gathers: usize,
+    /// Neighbouring facets of a face cluster whose normals agree share one
+    /// row, rendered at the facet nearest their centre, until the solution
+    /// says they differ (see `crate::pipeline`'s row groups): one hemi-cube
+    /// per group instead of one per facet. Off renders every facet's own
+    /// row, for comparison.
+    pub shared_rows: bool,
     /// Work the solve may leave out where the scene does not need it (all
     /// on; off only to compare or measure).
     pub skips: Skips,
@@ -89,6 +95,7 @@ impl Default for Settings {
             max_memory: DEFAULT_MAX_MEMORY,
             bounces: None,
             shaped_gathers: 0,
+            shared_rows: true,
             skips: Skips::default(),
         }
     }

@@ -123,6 +123,14 @@ pub struct SkipStats {
     /// Patch rows re-summed by refinement passes (only patches with new
     /// leaves; each pass would otherwise re-sum them all).
     pub patch_rows_refreshed: usize,
+    /// Groups of neighbouring facets that started with one shared row
+    /// ([`crate::Settings::shared_rows`]).
+    pub row_groups: usize,
+    /// Rows copied from a group's lead instead of rendered.
+    pub rows_shared: u64,
+    /// Facets that later got rows of their own because their group differed
+    /// from a neighbouring one.
+    pub groups_unshared: usize,
 }
 
 impl SkipStats {

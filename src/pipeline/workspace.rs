@@ -4,6 +4,7 @@
 //! once, for both solvers.
 
 use super::memory;
+use super::row_groups::RowGroups;
 use super::scale::EmissionScale;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
@@ -42,6 +43,8 @@ pub(crate) struct Workspace<'a> {
     pub direct: Option<DirectLight>,
     /// The power of two the mesh's emissions were scaled by for the solve.
     pub scale: EmissionScale,
+    /// Facets of face clusters that share one row.
+    pub row_groups: RowGroups,
 }
 
 impl<'a> Workspace<'a> {
@@ -104,6 +107,12 @@ impl<'a> Workspace<'a> {
         plan.grey &= scene.lights.iter().all(|l| l.colour.is_grey());
         let sources = Sources::from_mesh(&mesh);
         let radiosity = Radiosity::emitted(&mesh);
+        let row_groups = if refine.uniform_depth.is_none() {
+            RowGroups::new(&mesh, settings, settings.patch_size_for(scene))
+        } else {
+            RowGroups::default()
+        };
+        stats.skips.row_groups = row_groups.len();
         let mut ws = Workspace {
             scene,
             settings,
@@ -119,6 +128,7 @@ impl<'a> Workspace<'a> {
             min_area,
             direct: (!scene.lights.is_empty()).then(DirectLight::default),
             scale,
+            row_groups,
         };
         ws.update_direct();
         Ok(ws)
@@ -172,6 +182,29 @@ impl<'a> Workspace<'a> {
             self.form_factors.skip(*k);
         }
         self.tally.zero_reflectance_rows += left_out.len() as u64;
+        let (keys, copies) = self.row_groups.borrowers(keys, &self.form_factors);
+        self.render_rows(keys, pass);
+        // A lead that other objects cover in part, or that sees no front
+        // face, is no fair sample of its group: its members render their own.
+        let (copies, own): (Vec<_>, Vec<_>) = copies.into_iter().partition(|&(_, lead)| {
+            self.form_factors
+                .row(lead)
+                .is_some_and(|row| row.visible() >= 1.0)
+        });
+        self.render_rows(own.into_iter().map(|(k, _)| k).collect(), pass);
+        for &(k, lead) in &copies {
+            self.form_factors.share(k, lead);
+        }
+        self.stats.skips.rows_shared += copies.len() as u64;
+        self.stats.seconds.form_factors += started.elapsed().as_secs_f64();
+    }
+
+    /// Renders the rows of `keys` into the store, reporting progress as
+    /// refinement pass `pass`.
+    fn render_rows(&mut self, keys: Vec<ElementKey>, pass: usize) {
+        if keys.is_empty() {
+            return;
+        }
         let total = keys.len();
         let progress = self.progress;
         let report = |done| {
@@ -194,7 +227,6 @@ impl<'a> Workspace<'a> {
             self.form_factors.set_row(k, row);
         }
         self.tally.hemicube += s;
-        self.stats.seconds.form_factors += started.elapsed().as_secs_f64();
     }
 
     /// Marks the leaves that differ from a neighbour by more than the
@@ -234,6 +266,23 @@ impl<'a> Workspace<'a> {
         let per_leaf = memory::leaf_bytes() as f64 + rows as f64 / leaves;
         let used = memory::held(&self.mesh, rows as u64);
         memory::leaves_that_fit(self.settings.max_memory, used, per_leaf)
+    }
+
+    /// Ends row sharing for the facet groups that differ from a neighbour
+    /// by more than the refinement tolerance; returns the members that need
+    /// rows of their own, their old copies forgotten.
+    pub(super) fn unshare_groups(&mut self) -> Vec<ElementKey> {
+        let fresh = self.row_groups.unshare(
+            &self.mesh,
+            &self.radiosity,
+            self.settings.refine.tolerance,
+            self.settings.patch_size_for(self.scene),
+        );
+        for &k in &fresh {
+            self.form_factors.forget(k);
+        }
+        self.stats.skips.groups_unshared += fresh.len();
+        fresh
     }
 
     /// Splits the marked leaves and whatever the 2:1 balance then needs;

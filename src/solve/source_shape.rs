@@ -85,6 +85,11 @@ pub(crate) const MAX_PARTS: usize = 64;
 /// this fraction, so its being left out makes no step in the solution.
 pub(crate) const SPREAD: f64 = 1e-5;
 
+/// A part weighs by the differential form factor at its centroid when its
+/// bounding radius is under this fraction of its distance from the receiver,
+/// by Lambert's formula when nearer.
+pub(crate) const WEIGHT_FAR: f64 = 0.15;
+
 /// The unevenly lit patches of a solution and their parts.
 #[derive(Debug, Default)]
 pub(crate) struct SourceShapes {
@@ -321,7 +326,7 @@ impl SourceShapes {
             if !source.faces(eye) {
                 continue;
             }
-            let w = source.form_factor(eye, normal);
+            let w = source.form_factor_within(eye, normal, WEIGHT_FAR);
             weight += w;
             seen += *b * w;
         }

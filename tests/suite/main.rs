@@ -36,6 +36,7 @@ mod random_scenes;
 mod reference_textures;
 mod scale;
 mod scale_scene;
+mod shared_rows;
 mod size_series;
 mod skips;
 mod smooth_meshes;

@@ -1,0 +1,335 @@
+//! Rows shared by neighbouring facets of a face cluster.
+//!
+//! Each facet of a tessellated curved surface is an element of its own (see
+//! `crate::mesh::clusters`), with a hemi-cube of its own. On a million
+//! triangles the facets are a few centimetres across, a hemi-cube per facet
+//! is most of the solve's time, and neighbours a few centimetres apart whose
+//! normals agree see nearly the same scene. So the facets of one cluster that
+//! fall in one cell of a grid [`GROUP_CELL`] patch sizes wide, with normals
+//! within [`GROUP_ANGLE_DEGREES`] of the first one's, form a group; the
+//! member nearest the group's centre (its lead) renders the row, and the
+//! others take a copy of it. The group is then one receiver of the size of
+//! the elements a plain patch starts with.
+//!
+//! The adaptive part stays: after each solve, a group whose radiosity
+//! differs from a neighbouring group of its cluster by more than the
+//! refinement tolerance gives its members rows of their own in the next
+//! pass, as a split would elsewhere.
+
+use super::Settings;
+use crate::formfactor::FormFactors;
+use crate::mesh::{ElementKey, Mesh};
+use crate::solve::Radiosity;
+use glam::DVec3;
+use slotmap::SecondaryMap;
+use std::collections::BTreeMap;
+
+/// The grid cell that holds a group, in patch sizes: the size of the
+/// elements a plain patch is first split into (half a patch).
+pub(crate) const GROUP_CELL: f64 = 0.5;
+
+/// Widest angle between a member's normal and its group's first member's:
+/// the copied row was rendered facing the lead's way.
+pub(crate) const GROUP_ANGLE_DEGREES: f64 = 10.0;
+
+/// The facet groups of a solve.
+#[derive(Debug, Default)]
+pub(crate) struct RowGroups {
+    /// Per leaf in a group of two or more, its group.
+    group_of: SecondaryMap<ElementKey, u32>,
+    groups: Vec<Group>,
+    /// Per patch, its groups (empty for patches without any).
+    of_patch: BTreeMap<u32, Vec<u32>>,
+}
+
+#[derive(Debug)]
+struct Group {
+    members: Vec<ElementKey>,
+    /// The member whose row the others copy.
+    lead: ElementKey,
+    /// Area-weighted centre of the members.
+    centre: DVec3,
+    /// True while the members copy the lead's row.
+    shared: bool,
+}
+
+impl RowGroups {
+    /// Groups the facets of every face cluster of `mesh` whose surfaces are
+    /// still whole leaves; none unless `settings.shared_rows`.
+    pub(crate) fn new(mesh: &Mesh, settings: &Settings, patch_size: f64) -> Self {
+        let mut groups = RowGroups::default();
+        if !settings.shared_rows {
+            return groups;
+        }
+        let cell = GROUP_CELL * patch_size;
+        let min_cos = GROUP_ANGLE_DEGREES.to_radians().cos();
+        for (p, patch) in mesh.patches.iter().enumerate() {
+            if !patch.is_cluster() {
+                continue;
+            }
+            // Facets by grid cell, in root order within each cell.
+            let mut cells: BTreeMap<[i64; 3], Vec<ElementKey>> = BTreeMap::new();
+            for &k in &patch.roots {
+                let e = &mesh.elements[k];
+                if !e.is_leaf() {
+                    continue;
+                }
+                let at = (e.centroid / cell).floor();
+                cells
+                    .entry([at.x as i64, at.y as i64, at.z as i64])
+                    .or_default()
+                    .push(k);
+            }
+            for mut left in cells.into_values() {
+                while !left.is_empty() {
+                    let seed = mesh.surfaces()[mesh.elements[left[0]].surface as usize].normal;
+                    let (members, rest): (Vec<_>, Vec<_>) = left.into_iter().partition(|&k| {
+                        let n = mesh.surfaces()[mesh.elements[k].surface as usize].normal;
+                        n.dot(seed) >= min_cos
+                    });
+                    left = rest;
+                    if members.len() > 1 {
+                        groups.push(mesh, p as u32, members);
+                    }
+                }
+            }
+        }
+        groups
+    }
+
+    fn push(&mut self, mesh: &Mesh, patch: u32, members: Vec<ElementKey>) {
+        let area: f64 = members.iter().map(|&k| mesh.elements[k].area).sum();
+        let centre = members
+            .iter()
+            .map(|&k| mesh.elements[k].centroid * mesh.elements[k].area)
+            .sum::<DVec3>()
+            / area;
+        let lead = *members
+            .iter()
+            .min_by(|&&a, &&b| {
+                let da = (mesh.elements[a].centroid - centre).length_squared();
+                let db = (mesh.elements[b].centroid - centre).length_squared();
+                da.total_cmp(&db)
+            })
+            .expect("a group has members");
+        let g = self.groups.len() as u32;
+        for &k in &members {
+            self.group_of.insert(k, g);
+        }
+        self.of_patch.entry(patch).or_default().push(g);
+        self.groups.push(Group {
+            members,
+            lead,
+            centre,
+            shared: true,
+        });
+    }
+
+    /// Groups formed (of two or more facets).
+    pub(crate) fn len(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// Splits `keys` (leaves about to get rows) into those to render and
+    /// those that copy a lead's row, as (leaf, lead). A member copies only
+    /// when its lead is rendered in the same batch or already has its row.
+    pub(crate) fn borrowers(
+        &self,
+        keys: Vec<ElementKey>,
+        form_factors: &FormFactors,
+    ) -> (Vec<ElementKey>, Vec<(ElementKey, ElementKey)>) {
+        if self.groups.is_empty() {
+            return (keys, Vec::new());
+        }
+        let batch: std::collections::HashSet<ElementKey> = keys.iter().copied().collect();
+        let mut render = Vec::with_capacity(keys.len());
+        let mut copy = Vec::new();
+        for k in keys {
+            let lead = self
+                .group_of
+                .get(k)
+                .map(|&g| &self.groups[g as usize])
+                .filter(|g| g.shared && g.lead != k)
+                .map(|g| g.lead);
+            match lead {
+                Some(l) if batch.contains(&l) || form_factors.state(l).is_computed() => {
+                    copy.push((k, l));
+                }
+                _ => render.push(k),
+            }
+        }
+        (render, copy)
+    }
+
+    /// Ends sharing for every group whose radiosity differs from a
+    /// neighbouring group of its cluster (centres within two cells) by more
+    /// than `tolerance` times the brightest reflected radiosity, in any
+    /// band. Returns the members that now need rows of their own (the leads
+    /// keep theirs), in a deterministic order.
+    pub(crate) fn unshare(
+        &mut self,
+        mesh: &Mesh,
+        radiosity: &Radiosity,
+        tolerance: f64,
+        patch_size: f64,
+    ) -> Vec<ElementKey> {
+        if self.groups.is_empty() {
+            return Vec::new();
+        }
+        let reference = mesh
+            .leaves()
+            .iter()
+            .map(|&k| (radiosity.element(k) - mesh.elements[k].emission).max_band())
+            .fold(0.0, f64::max);
+        if reference <= 0.0 {
+            return Vec::new();
+        }
+        let reach2 = (2.0 * GROUP_CELL * patch_size * 3f64.sqrt()).powi(2);
+        let mut ending = vec![false; self.groups.len()];
+        for groups in self.of_patch.values() {
+            for (i, &a) in groups.iter().enumerate() {
+                for &b in &groups[i + 1..] {
+                    let (ga, gb) = (&self.groups[a as usize], &self.groups[b as usize]);
+                    if !(ga.shared || gb.shared)
+                        || (ga.centre - gb.centre).length_squared() > reach2
+                    {
+                        continue;
+                    }
+                    let d = (radiosity.element(ga.lead) - radiosity.element(gb.lead))
+                        .abs()
+                        .max_band();
+                    if d > tolerance * reference {
+                        ending[a as usize] = true;
+                        ending[b as usize] = true;
+                    }
+                }
+            }
+        }
+        let mut fresh = Vec::new();
+        for (g, end) in self.groups.iter_mut().zip(ending) {
+            if end && g.shared {
+                g.shared = false;
+                fresh.extend(g.members.iter().copied().filter(|&k| k != g.lead));
+            }
+        }
+        fresh
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Rgb;
+    use crate::scene::{Scene, SceneBuilder};
+    use std::f64::consts::TAU;
+
+    /// A column of `sides` x `rings` quads, radius 1, height 2, facing out.
+    fn column(sides: usize, rings: usize) -> Scene {
+        let mut b = SceneBuilder::new("column");
+        let m = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        b.object("column");
+        let at = |i: usize, j: usize| {
+            let a = TAU * i as f64 / sides as f64;
+            DVec3::new(a.cos(), 2.0 * j as f64 / rings as f64, a.sin())
+        };
+        for j in 0..rings {
+            for i in 0..sides {
+                b.polygon(m, &[at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)])
+                    .unwrap();
+            }
+        }
+        b.build().unwrap()
+    }
+
+    fn groups_of(scene: &Scene, patch_size: f64) -> (Mesh, RowGroups) {
+        let mesh = Mesh::build(scene, patch_size, usize::MAX, true).unwrap();
+        let groups = RowGroups::new(&mesh, &Settings::default(), patch_size);
+        (mesh, groups)
+    }
+
+    #[test]
+    fn each_facet_is_in_at_most_one_group_of_one_cell_and_like_normals() {
+        // 128 sides: 2.8 degrees between neighbours, so a group spans a few
+        // sides within the angle and many rings within the cell.
+        let scene = column(128, 16);
+        let patch_size = 1.0;
+        let (mesh, groups) = groups_of(&scene, patch_size);
+        assert!(groups.len() > 10, "{} groups", groups.len());
+        let mut seen = std::collections::HashSet::new();
+        let cell = GROUP_CELL * patch_size;
+        let min_cos = GROUP_ANGLE_DEGREES.to_radians().cos() - 1e-12;
+        for g in &groups.groups {
+            assert!(g.members.len() > 1);
+            assert!(g.members.contains(&g.lead));
+            let normal = |k: ElementKey| mesh.surfaces()[mesh.elements[k].surface as usize].normal;
+            let first = g.members[0];
+            let cell_of = |k: ElementKey| (mesh.elements[k].centroid / cell).floor();
+            for &k in &g.members {
+                assert!(seen.insert(k), "a facet in two groups");
+                assert_eq!(
+                    groups.group_of[k] as usize,
+                    groups
+                        .groups
+                        .iter()
+                        .position(|h| std::ptr::eq(h, g))
+                        .unwrap()
+                );
+                assert!(normal(k).dot(normal(first)) >= min_cos);
+                assert_eq!(cell_of(k), cell_of(first));
+                assert_eq!(mesh.elements[k].patch, mesh.elements[first].patch);
+            }
+            // The lead is the member nearest the area-weighted centre.
+            let d = |k: ElementKey| (mesh.elements[k].centroid - g.centre).length();
+            assert!(g.members.iter().all(|&k| d(g.lead) <= d(k)));
+        }
+        // Most facets share: the column's 2048 facets in far fewer groups.
+        assert!(seen.len() > 1500, "{} of 2048 facets grouped", seen.len());
+    }
+
+    #[test]
+    fn a_group_differing_from_its_neighbour_stops_sharing_and_an_even_one_does_not() {
+        let scene = column(128, 16);
+        let patch_size = 1.0;
+        let (mesh, mut groups) = groups_of(&scene, patch_size);
+        let mut radiosity = Radiosity::emitted(&mesh);
+        for k in mesh.leaves() {
+            radiosity.set_element(k, Rgb::splat(1.0));
+        }
+        assert!(groups
+            .unshare(&mesh, &radiosity, 0.05, patch_size)
+            .is_empty());
+        // One group's lead 10% darker: it and its neighbours within reach
+        // stop sharing; their members other than the leads need rows.
+        let g = groups.len() / 2;
+        let lead = groups.groups[g].lead;
+        radiosity.set_element(lead, Rgb::splat(0.9));
+        let fresh = groups.unshare(&mesh, &radiosity, 0.05, patch_size);
+        assert!(!groups.groups[g].shared);
+        assert!(groups.groups[g]
+            .members
+            .iter()
+            .all(|k| *k == lead || fresh.contains(k)));
+        assert!(!fresh.contains(&lead));
+        let ended = groups.groups.iter().filter(|g| !g.shared).count();
+        assert!(
+            ended >= 2 && ended < groups.len(),
+            "{ended} of {}",
+            groups.len()
+        );
+        // A second look finds nothing new.
+        assert!(groups
+            .unshare(&mesh, &radiosity, 0.05, patch_size)
+            .is_empty());
+    }
+
+    #[test]
+    fn no_groups_when_shared_rows_are_off() {
+        let scene = column(128, 16);
+        let mesh = Mesh::build(&scene, 1.0, usize::MAX, true).unwrap();
+        let settings = Settings {
+            shared_rows: false,
+            ..Settings::default()
+        };
+        assert_eq!(RowGroups::new(&mesh, &settings, 1.0).len(), 0);
+    }
+}

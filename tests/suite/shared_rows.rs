@@ -1,0 +1,262 @@
+//! Rows shared by neighbouring facets of a face cluster (issue 20): finely
+//! tessellated objects get one hemi-cube per group of facets instead of one
+//! per facet. The shared rows must give the per-facet answer within a stated
+//! tolerance, conserve energy, stay as close to the path tracer, and cost
+//! fewer hemi-cubes.
+
+use glam::DVec3;
+use radiosity::math::Rgb;
+use radiosity::reference::{Reference, ReferenceSettings};
+use radiosity::scene::{Scene, SceneBuilder};
+use radiosity::{Settings, Solution};
+use std::f64::consts::{PI, TAU};
+
+fn v(x: f64, y: f64, z: f64) -> DVec3 {
+    DVec3::new(x, y, z)
+}
+
+/// A closed 2 m room (one red wall) lit by a 0.4 m lamp 1 mm under the
+/// ceiling, with a column of 96 x 24 facets and a sphere of 64 x 32 facets:
+/// facets of 1 to 5 cm, far below the patch size, as a finely tessellated
+/// model has them.
+fn fine_room() -> Scene {
+    let (w, h) = (2.0, 2.0);
+    let mut b = SceneBuilder::new("fine facets");
+    let white = b.material("white", Rgb::splat(0.7), Rgb::ZERO).unwrap();
+    let red = b
+        .material("red", Rgb::new(0.7, 0.15, 0.1), Rgb::ZERO)
+        .unwrap();
+    let lamp = b.material("lamp", Rgb::ZERO, Rgb::splat(10.0)).unwrap();
+    let stone = b
+        .material("stone", Rgb::new(0.6, 0.55, 0.4), Rgb::ZERO)
+        .unwrap();
+    let ball = b
+        .material("ball", Rgb::new(0.2, 0.4, 0.7), Rgb::ZERO)
+        .unwrap();
+    let walls: [(&str, u32, [DVec3; 4]); 6] = [
+        (
+            "floor",
+            white,
+            [v(0., 0., 0.), v(0., 0., w), v(w, 0., w), v(w, 0., 0.)],
+        ),
+        (
+            "ceiling",
+            white,
+            [v(0., h, 0.), v(w, h, 0.), v(w, h, w), v(0., h, w)],
+        ),
+        (
+            "wall_left",
+            red,
+            [v(0., 0., 0.), v(0., h, 0.), v(0., h, w), v(0., 0., w)],
+        ),
+        (
+            "wall_right",
+            white,
+            [v(w, 0., 0.), v(w, 0., w), v(w, h, w), v(w, h, 0.)],
+        ),
+        (
+            "wall_back",
+            white,
+            [v(0., 0., 0.), v(w, 0., 0.), v(w, h, 0.), v(0., h, 0.)],
+        ),
+        (
+            "wall_front",
+            white,
+            [v(0., 0., w), v(0., h, w), v(w, h, w), v(w, 0., w)],
+        ),
+    ];
+    for (name, m, c) in walls {
+        b.object(name);
+        b.quad(m, c[0], c[1], c[2], c[3]).unwrap();
+    }
+    let (l0, l1, y) = (0.8, 1.2, h - 0.001);
+    b.object("lamp");
+    b.quad(lamp, v(l0, y, l0), v(l1, y, l0), v(l1, y, l1), v(l0, y, l1))
+        .unwrap();
+    // The column's side, open at both ends: it stands on the floor and its
+    // top is hidden under a cap.
+    b.object("column");
+    let (axis, radius, height, sides, rings) = (v(0.6, 0.0, 1.3), 0.15, 1.2, 96, 24);
+    let on_column = |i: usize, j: usize| {
+        let a = TAU * i as f64 / sides as f64;
+        axis + v(
+            radius * a.cos(),
+            height * j as f64 / rings as f64,
+            radius * a.sin(),
+        )
+    };
+    for j in 0..rings {
+        for i in 0..sides {
+            // Counter-clockwise seen from outside.
+            b.polygon(
+                stone,
+                &[
+                    on_column(i, j),
+                    on_column(i, j + 1),
+                    on_column(i + 1, j + 1),
+                    on_column(i + 1, j),
+                ],
+            )
+            .unwrap();
+        }
+    }
+    b.object("cap");
+    let top = axis + v(0.0, height, 0.0);
+    for i in 0..sides {
+        b.polygon(stone, &[top, on_column(i + 1, rings), on_column(i, rings)])
+            .unwrap();
+    }
+    b.object("sphere");
+    let (centre, r, around, along) = (v(1.35, 0.3, 0.7), 0.3, 64, 32);
+    let on_sphere = |i: usize, j: usize| {
+        let theta = PI * j as f64 / along as f64;
+        let phi = TAU * i as f64 / around as f64;
+        centre
+            + r * v(
+                theta.sin() * phi.cos(),
+                -theta.cos(),
+                theta.sin() * phi.sin(),
+            )
+    };
+    for j in 0..along {
+        for i in 0..around {
+            let q = [
+                on_sphere(i, j),
+                on_sphere(i + 1, j),
+                on_sphere(i + 1, j + 1),
+                on_sphere(i, j + 1),
+            ];
+            for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+                let n = (t[1] - t[0]).cross(t[2] - t[0]);
+                if n.length() < 1e-12 {
+                    continue; // the poles' collapsed triangles
+                }
+                let c = (t[0] + t[1] + t[2]) / 3.0;
+                if n.dot(c - centre) > 0.0 {
+                    b.triangle(ball, t[0], t[1], t[2]).unwrap();
+                } else {
+                    b.triangle(ball, t[0], t[2], t[1]).unwrap();
+                }
+            }
+        }
+    }
+    b.build().unwrap()
+}
+
+fn solve(scene: &Scene, shared_rows: bool) -> Solution {
+    let settings = Settings {
+        shared_rows,
+        ..Settings::default()
+    };
+    radiosity::solve(scene, &settings, &|_| {}).unwrap()
+}
+
+/// Mean and largest relative difference over objects (the lamp left out)
+/// and bands between `a` and `b`.
+fn differences(scene: &Scene, a: &[Rgb], b: &[Rgb]) -> (f64, f64) {
+    let (mut sum, mut worst, mut n) = (0.0, 0.0f64, 0);
+    for (o, (x, y)) in scene.objects.iter().zip(a.iter().zip(b)) {
+        if o.name == "lamp" {
+            continue;
+        }
+        for band in 0..3 {
+            let e = (x.0[band] / y.0[band] - 1.0).abs();
+            sum += e;
+            worst = worst.max(e);
+            n += 1;
+        }
+    }
+    (sum / f64::from(n), worst)
+}
+
+fn object_means(scene: &Scene, sol: &Solution) -> Vec<Rgb> {
+    sol.object_radiosity(scene)
+        .iter()
+        .map(|o| o.radiosity)
+        .collect()
+}
+
+#[test]
+fn shared_rows_give_the_per_facet_answer_for_fewer_hemicubes() {
+    let scene = fine_room();
+    let shared = solve(&scene, true);
+    let own = solve(&scene, false);
+    let (s, o) = (shared.stats(), own.stats());
+    eprintln!(
+        "shared: {} groups, {} rows copied, {} facets unshared, {} hemi-cubes; per facet: {} hemi-cubes",
+        s.skips.row_groups,
+        s.skips.rows_shared,
+        s.skips.groups_unshared,
+        s.hemicube.hemicubes,
+        o.hemicube.hemicubes
+    );
+    assert_eq!(o.skips.row_groups, 0);
+    assert_eq!(o.skips.rows_shared, 0);
+    assert!(s.skips.rows_shared > 0);
+    // Measured: 7 737 against 11 054 (a third of the facets get rows of
+    // their own again where the lamp lights them unevenly).
+    assert!(
+        (s.hemicube.hemicubes as f64) < 0.8 * o.hemicube.hemicubes as f64,
+        "{} against {}",
+        s.hemicube.hemicubes,
+        o.hemicube.hemicubes
+    );
+    assert!(s.skips.groups_unshared > 0);
+    for (name, sol) in [("shared", &shared), ("per facet", &own)] {
+        let energy = sol.stats().energy.relative_difference;
+        eprintln!("{name}: energy {energy:.6}");
+    }
+    // Sharing neither loses nor makes light: the balance as per facet
+    // (measured -0.00113 both; what fine facets in a closed room lose is
+    // issue 18's, the same with or without sharing).
+    let (es, eo) = (s.energy.relative_difference, o.energy.relative_difference);
+    assert!(
+        (es - eo).abs() < 1e-4,
+        "energy: shared {es}, per facet {eo}"
+    );
+    assert!(es.abs() < 2e-3, "energy {es}");
+    // Per object, the shared rows within 0.5% of the per-facet rows
+    // (measured: 0.013% mean, 0.10% largest).
+    let (mean, worst) = differences(
+        &scene,
+        &object_means(&scene, &shared),
+        &object_means(&scene, &own),
+    );
+    eprintln!("shared against per facet: mean {mean:.5}, largest {worst:.5}");
+    assert!(worst < 0.005, "mean {mean}, largest {worst}");
+}
+
+#[test]
+fn shared_rows_stay_as_close_to_the_path_tracer_as_per_facet_rows() {
+    let scene = fine_room();
+    let reference: Vec<Rgb> = Reference::new(&scene)
+        .unwrap()
+        .object_means(&ReferenceSettings {
+            paths: 200_000,
+            seed: 5,
+            ..ReferenceSettings::default()
+        })
+        .unwrap()
+        .iter()
+        .map(|o| o.radiosity)
+        .collect();
+    let shared = differences(
+        &scene,
+        &object_means(&scene, &solve(&scene, true)),
+        &reference,
+    );
+    let own = differences(
+        &scene,
+        &object_means(&scene, &solve(&scene, false)),
+        &reference,
+    );
+    eprintln!("against the path tracer: shared {shared:?}, per facet {own:?}");
+    assert!(
+        shared.0 < own.0 + 0.002,
+        "mean: shared {shared:?}, per facet {own:?}"
+    );
+    assert!(
+        shared.1 < own.1 + 0.005,
+        "largest: shared {shared:?}, per facet {own:?}"
+    );
+}
