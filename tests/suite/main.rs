@@ -24,6 +24,7 @@ mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
 mod lights;
+mod logo_mesh;
 mod memory_limits;
 mod messy_cli;
 mod penumbra;

@@ -4,10 +4,11 @@
 //! tolerance, conserve energy, stay as close to the path tracer, and cost
 //! fewer hemi-cubes.
 
+use super::common::lamp_room;
 use glam::DVec3;
 use radiosity::math::Rgb;
 use radiosity::reference::{Reference, ReferenceSettings};
-use radiosity::scene::{Scene, SceneBuilder};
+use radiosity::scene::Scene;
 use radiosity::{Settings, Solution};
 use std::f64::consts::{PI, TAU};
 
@@ -20,58 +21,12 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 /// facets of 1 to 5 cm, far below the patch size, as a finely tessellated
 /// model has them.
 fn fine_room() -> Scene {
-    let (w, h) = (2.0, 2.0);
-    let mut b = SceneBuilder::new("fine facets");
-    let white = b.material("white", Rgb::splat(0.7), Rgb::ZERO).unwrap();
-    let red = b
-        .material("red", Rgb::new(0.7, 0.15, 0.1), Rgb::ZERO)
-        .unwrap();
-    let lamp = b.material("lamp", Rgb::ZERO, Rgb::splat(10.0)).unwrap();
+    let mut b = lamp_room("fine facets", Rgb::new(0.7, 0.15, 0.1));
     let stone = b
         .material("stone", Rgb::new(0.6, 0.55, 0.4), Rgb::ZERO)
         .unwrap();
     let ball = b
         .material("ball", Rgb::new(0.2, 0.4, 0.7), Rgb::ZERO)
-        .unwrap();
-    let walls: [(&str, u32, [DVec3; 4]); 6] = [
-        (
-            "floor",
-            white,
-            [v(0., 0., 0.), v(0., 0., w), v(w, 0., w), v(w, 0., 0.)],
-        ),
-        (
-            "ceiling",
-            white,
-            [v(0., h, 0.), v(w, h, 0.), v(w, h, w), v(0., h, w)],
-        ),
-        (
-            "wall_left",
-            red,
-            [v(0., 0., 0.), v(0., h, 0.), v(0., h, w), v(0., 0., w)],
-        ),
-        (
-            "wall_right",
-            white,
-            [v(w, 0., 0.), v(w, 0., w), v(w, h, w), v(w, h, 0.)],
-        ),
-        (
-            "wall_back",
-            white,
-            [v(0., 0., 0.), v(w, 0., 0.), v(w, h, 0.), v(0., h, 0.)],
-        ),
-        (
-            "wall_front",
-            white,
-            [v(0., 0., w), v(0., h, w), v(w, h, w), v(w, 0., w)],
-        ),
-    ];
-    for (name, m, c) in walls {
-        b.object(name);
-        b.quad(m, c[0], c[1], c[2], c[3]).unwrap();
-    }
-    let (l0, l1, y) = (0.8, 1.2, h - 0.001);
-    b.object("lamp");
-    b.quad(lamp, v(l0, y, l0), v(l1, y, l0), v(l1, y, l1), v(l0, y, l1))
         .unwrap();
     // The column's side, open at both ends: it stands on the floor and its
     // top is hidden under a cap.

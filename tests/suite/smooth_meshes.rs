@@ -4,6 +4,7 @@
 //! the rest of the room (reciprocity), and the per-object error against the
 //! path tracer must fall as the user makes patches smaller.
 
+use super::common::lamp_room;
 use glam::DVec3;
 use radiosity::formfactor::RowState;
 use radiosity::math::Rgb;
@@ -16,8 +17,6 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
     DVec3::new(x, y, z)
 }
 
-const ROOM: f64 = 2.0;
-const HEIGHT: f64 = 2.0;
 const SPHERE_CENTRE: DVec3 = DVec3::new(0.65, 0.35, 1.3);
 const SPHERE_RADIUS: f64 = 0.35;
 
@@ -39,58 +38,12 @@ fn facing_out(b: &mut SceneBuilder, material: u32, t: [DVec3; 3], inside: DVec3)
 /// a sphere of 32 x 16 facets resting on the floor and a torus of 32 x 16
 /// facets lying on it.
 fn smooth_room() -> Scene {
-    let (w, h) = (ROOM, HEIGHT);
-    let mut b = SceneBuilder::new("smooth meshes");
-    let white = b.material("white", Rgb::splat(0.7), Rgb::ZERO).unwrap();
-    let red = b
-        .material("red", Rgb::new(0.7, 0.15, 0.1), Rgb::ZERO)
-        .unwrap();
-    let lamp = b.material("lamp", Rgb::ZERO, Rgb::splat(10.0)).unwrap();
+    let mut b = lamp_room("smooth meshes", Rgb::new(0.7, 0.15, 0.1));
     let ball = b
         .material("ball", Rgb::new(0.6, 0.6, 0.3), Rgb::ZERO)
         .unwrap();
     let ring = b
         .material("ring", Rgb::new(0.2, 0.4, 0.7), Rgb::ZERO)
-        .unwrap();
-    let walls: [(&str, u32, [DVec3; 4]); 6] = [
-        (
-            "floor",
-            white,
-            [v(0., 0., 0.), v(0., 0., w), v(w, 0., w), v(w, 0., 0.)],
-        ),
-        (
-            "ceiling",
-            white,
-            [v(0., h, 0.), v(w, h, 0.), v(w, h, w), v(0., h, w)],
-        ),
-        (
-            "wall_left",
-            red,
-            [v(0., 0., 0.), v(0., h, 0.), v(0., h, w), v(0., 0., w)],
-        ),
-        (
-            "wall_right",
-            white,
-            [v(w, 0., 0.), v(w, 0., w), v(w, h, w), v(w, h, 0.)],
-        ),
-        (
-            "wall_back",
-            white,
-            [v(0., 0., 0.), v(w, 0., 0.), v(w, h, 0.), v(0., h, 0.)],
-        ),
-        (
-            "wall_front",
-            white,
-            [v(0., 0., w), v(0., h, w), v(w, h, w), v(w, 0., w)],
-        ),
-    ];
-    for (name, m, c) in walls {
-        b.object(name);
-        b.quad(m, c[0], c[1], c[2], c[3]).unwrap();
-    }
-    let (l0, l1, y) = (0.8, 1.2, h - 0.001);
-    b.object("lamp");
-    b.quad(lamp, v(l0, y, l0), v(l1, y, l0), v(l1, y, l1), v(l0, y, l1))
         .unwrap();
     let (around, along) = (32, 16);
     b.object("sphere");

@@ -139,10 +139,20 @@ impl Hemicube {
             return;
         };
         let p = face.map(local);
-        let value = (1.0 / p.z) as f32;
+        // The depth test is at the box's nearest possible depth: the pixel
+        // holds the depth of whatever was drawn at its centre, and a sample
+        // drawn off the centre at its own depth would lose to a surface just
+        // behind it seen at a grazing angle (a decal 1 mm off its wall).
+        let half = 0.5 * (aabb.max - aabb.min).as_dvec3().length();
+        let value = (1.0 / (p.z - half).max(p.z * 1e-3)) as f32;
         let front = summary.vector_area.dot(frame.eye - centre) > 0.0;
         let item = if front { summary.patch } else { BACK_FACE };
         self.stats.pixels_tested += 1;
+        // A pixel this patch already holds has had its coverage counted:
+        // many samples of one finely cut patch (a decal of small triangles)
+        // fall in one pixel, and counting each as a pixel covered would
+        // divide the patch's visible share by their number.
+        let counted = self.items[fi][px] == item;
         if value > self.depth[fi][px] {
             self.depth[fi][px] = value;
             self.items[fi][px] = item;
@@ -150,7 +160,7 @@ impl Hemicube {
         let n = self.table.n;
         let (j, i) = (px / n, px % n);
         self.drawn[fi].include(j, j + 1, i, i + 1);
-        if front {
+        if front && !counted {
             let weights = if fi == 0 {
                 &self.table.top
             } else {
