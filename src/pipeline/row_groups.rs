@@ -14,7 +14,9 @@
 //! The adaptive part stays: after each solve, a group whose radiosity
 //! differs from a neighbouring group of its cluster by more than the
 //! refinement tolerance gives its members rows of their own in the next
-//! pass, as a split would elsewhere.
+//! pass, as a split would elsewhere. A cluster that would make a single
+//! group (a small object) has nothing to check it against and keeps rows
+//! per facet.
 
 use super::Settings;
 use crate::formfactor::FormFactors;
@@ -80,6 +82,7 @@ impl RowGroups {
                     .or_default()
                     .push(k);
             }
+            let mut found = Vec::new();
             for mut left in cells.into_values() {
                 while !left.is_empty() {
                     let seed = mesh.surfaces()[mesh.elements[left[0]].surface as usize].normal;
@@ -89,8 +92,16 @@ impl RowGroups {
                     });
                     left = rest;
                     if members.len() > 1 {
-                        groups.push(mesh, p as u32, members);
+                        found.push(members);
                     }
+                }
+            }
+            // A group is checked against its cluster's other groups; a
+            // cluster that makes one group (a small object) would never be,
+            // so its facets keep rows of their own.
+            if found.len() > 1 {
+                for members in found {
+                    groups.push(mesh, p as u32, members);
                 }
             }
         }
@@ -281,6 +292,11 @@ mod tests {
             // The lead is the member nearest the area-weighted centre.
             let d = |k: ElementKey| (mesh.elements[k].centroid - g.centre).length();
             assert!(g.members.iter().all(|&k| d(g.lead) <= d(k)));
+        }
+        // Every cluster with a group has at least two, so that each group
+        // has another to be checked against.
+        for groups in groups.of_patch.values() {
+            assert!(groups.len() > 1);
         }
         // Most facets share: the column's 2048 facets in far fewer groups.
         assert!(seen.len() > 1500, "{} of 2048 facets grouped", seen.len());
