@@ -5,6 +5,7 @@
 //! fewer hemi-cubes.
 
 use super::common::lamp_room;
+use super::smooth_meshes::facing_out;
 use glam::DVec3;
 use radiosity::math::Rgb;
 use radiosity::reference::{Reference, ReferenceSettings};
@@ -81,18 +82,8 @@ fn fine_room() -> Scene {
                 on_sphere(i + 1, j + 1),
                 on_sphere(i, j + 1),
             ];
-            for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
-                let n = (t[1] - t[0]).cross(t[2] - t[0]);
-                if n.length() < 1e-12 {
-                    continue; // the poles' collapsed triangles
-                }
-                let c = (t[0] + t[1] + t[2]) / 3.0;
-                if n.dot(c - centre) > 0.0 {
-                    b.triangle(ball, t[0], t[1], t[2]).unwrap();
-                } else {
-                    b.triangle(ball, t[0], t[2], t[1]).unwrap();
-                }
-            }
+            facing_out(&mut b, ball, [q[0], q[1], q[2]], centre);
+            facing_out(&mut b, ball, [q[0], q[2], q[3]], centre);
         }
     }
     b.build().unwrap()

@@ -21,7 +21,7 @@ const SPHERE_CENTRE: DVec3 = DVec3::new(0.65, 0.35, 1.3);
 const SPHERE_RADIUS: f64 = 0.35;
 
 /// Adds triangle `t` of `material`, turned to face away from `inside`.
-fn facing_out(b: &mut SceneBuilder, material: u32, t: [DVec3; 3], inside: DVec3) {
+pub(super) fn facing_out(b: &mut SceneBuilder, material: u32, t: [DVec3; 3], inside: DVec3) {
     let n = (t[1] - t[0]).cross(t[2] - t[0]);
     if n.length() < 1e-12 {
         return; // the poles' collapsed triangles
