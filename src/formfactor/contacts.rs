@@ -16,8 +16,11 @@
 //! floor). Only for those elements, points spread evenly over the element
 //! (16, then 64 where those disagree) are tested with
 //! [`Occluders::mostly_open`]; the share of them that are is the element's
-//! visible fraction, and its row is taken at a visible point (the centroid
-//! where it is visible) and scaled by that fraction (see [`Row::covered`]).
+//! visible fraction, and its row is taken at the visible point nearest the
+//! centre of the visible ones and scaled by that fraction (see
+//! [`Row::covered`]). An element's slab is its surface's: a decal lying a
+//! millimetre off a floor covers the floor elements under it, however
+//! small they are.
 //! Its light from emitters, which changes fast around what stands on it, is
 //! the mean over up to eight of the visible points.
 
@@ -58,6 +61,8 @@ pub(crate) struct Contacts {
     /// Per surface of the mesh: each piece with its bounding box and the
     /// diameter of the polygon it is cut from.
     pieces: Vec<Vec<(Piece, DVec3, DVec3, f64)>>,
+    /// Per surface, the half-thickness of its slab.
+    slab: Vec<f64>,
 }
 
 impl Contacts {
@@ -65,6 +70,11 @@ impl Contacts {
     /// surfaces) that reach into the slab about its plane inside its border.
     #[must_use]
     pub(crate) fn new(mesh: &Mesh, sources: &Sources, occluders: &Occluders) -> Self {
+        let slab: Vec<f64> = mesh
+            .surfaces
+            .iter()
+            .map(|lattice| SLAB * polygon_area(&lattice.vertices).sqrt())
+            .collect();
         let pieces = mesh
             .surfaces
             .iter()
@@ -72,7 +82,7 @@ impl Contacts {
             .map(|(s, lattice)| {
                 let v = &lattice.vertices;
                 let n = lattice.normal;
-                let eps = SLAB * polygon_area(v).sqrt();
+                let eps = slab[s];
                 if eps <= 0.0 {
                     return Vec::new();
                 }
@@ -109,7 +119,7 @@ impl Contacts {
                 found
             })
             .collect();
-        Contacts { pieces }
+        Contacts { pieces, slab }
     }
 
     /// When a contact of surface `surface` reaches into `polygon` (an
@@ -123,7 +133,10 @@ impl Contacts {
             return None;
         }
         let (lo, hi) = bounds(polygon);
-        let pad = DVec3::splat(SLAB * polygon_area(polygon).sqrt());
+        // The pieces lie anywhere in the surface's slab (a decal 1 mm off a
+        // floor), which an element's own size would make too thin.
+        let pad =
+            DVec3::splat((SLAB * polygon_area(polygon).sqrt()).max(self.slab[surface as usize]));
         let planes = inset_planes(polygon, normal, 0.0);
         let mut largest: Option<f64> = None;
         for (piece, a, b, size) in pieces {
@@ -232,8 +245,8 @@ pub(crate) fn test_points(polygon: &[DVec3], side: usize, seed: u64) -> SmallVec
 /// Where a partly covered element receives, and how much of it can.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Coverage {
-    /// The receiving point: the usual eye if it is visible, else the visible
-    /// test point nearest the visible points' mean.
+    /// The receiving point: the visible test point nearest the visible
+    /// points' mean (lifted off the surface like the usual eye).
     pub eye: DVec3,
     /// The share of the test points that are not shut in, in (0, 1).
     pub visible: f64,
@@ -246,7 +259,7 @@ pub(crate) struct Coverage {
 
 impl Occluders {
     /// The coverage of an element (`polygon`, on `surface` with unit
-    /// `normal`, receiving at `eye`, test points lifted by `lift` and
+    /// `normal`, test points lifted by `lift` as the usual eye is, and
     /// jittered by `seed`, touched by polygons up to `contact_size` across),
     /// or `None` when all its test points agree (wholly visible or wholly
     /// shut in: the usual row serves).
@@ -258,7 +271,6 @@ impl Occluders {
         polygon: &[DVec3],
         normal: DVec3,
         surface: u32,
-        eye: DVec3,
         lift: DVec3,
         seed: u64,
         contact_size: f64,
@@ -284,19 +296,20 @@ impl Occluders {
             return None;
         }
         let visible = open.len() as f64 / points.len() as f64;
-        let eye = if !self.mostly_open(sources, eye, normal, surface, reach) {
-            let mean = open.iter().copied().sum::<DVec3>() / open.len() as f64;
-            open.iter()
-                .copied()
-                .min_by(|a, b| {
-                    (*a - mean)
-                        .length_squared()
-                        .total_cmp(&(*b - mean).length_squared())
-                })
-                .unwrap_or(eye)
-        } else {
-            eye
-        };
+        // The row is taken at the centre of the visible part: the open
+        // point nearest the open points' mean. (Not the centroid where that
+        // is open: a centroid on the very edge of what covers the element
+        // would be open or shut by rounding alone.)
+        let mean = open.iter().copied().sum::<DVec3>() / open.len() as f64;
+        let eye = open
+            .iter()
+            .copied()
+            .min_by(|a, b| {
+                (*a - mean)
+                    .length_squared()
+                    .total_cmp(&(*b - mean).length_squared())
+            })
+            .expect("some points are open");
         let count = open.len().min(EMITTER_POINTS);
         let samples = (0..count)
             .map(|k| (open[k * open.len() / count], 1.0 / count as f64))
@@ -382,30 +395,30 @@ mod tests {
         let (_, sources, occluders) = floor_wall_and_box();
         let element = floor_square(-0.5, -0.5, 1.0);
         let lift = DVec3::Y * 1e-6;
-        let centroid = DVec3::new(0.0, 0.0, 0.0) + lift;
         let c = occluders
-            .coverage(&sources, &element, DVec3::Y, 0, centroid, lift, 11, 1.5)
+            .coverage(&sources, &element, DVec3::Y, 0, lift, 11, 1.5)
             .expect("the box covers part of the element");
         // The 8 x 8 jittered points fall one per cell, and the box covers
         // 16 cells of 64 exactly.
         assert_eq!(c.visible, 0.75);
-        // The eye is a visible point (here the centroid, at the box's
-        // corner).
+        // The eye is a visible point near the centre of the visible part,
+        // an L whose centroid is at (-1/12, -1/12): within a cell's
+        // diagonal (the points are jittered in cells 1/8 wide).
         assert!(!occluders.is_shut_in(&sources, c.eye, DVec3::Y, 0));
+        let l_centre = DVec3::new(-1.0 / 12.0, 0.0, -1.0 / 12.0);
+        assert!((c.eye - l_centre).length() < 0.18, "{}", c.eye);
         assert!(!c.samples.is_empty() && c.samples.len() <= EMITTER_POINTS);
         let weights: f64 = c.samples.iter().map(|s| s.1).sum();
         assert!((weights - 1.0).abs() < 1e-12);
         // An element in the open, or wholly under the box, needs no coverage.
         let open = floor_square(-1.5, 0.5, 0.5);
-        let centre = DVec3::new(-1.25, 0.0, 0.75) + lift;
         assert_eq!(
-            occluders.coverage(&sources, &open, DVec3::Y, 0, centre, lift, 11, 1.5),
+            occluders.coverage(&sources, &open, DVec3::Y, 0, lift, 11, 1.5),
             None
         );
         let under = floor_square(0.25, 0.25, 0.5);
-        let centre = DVec3::new(0.5, 0.0, 0.5) + lift;
         assert_eq!(
-            occluders.coverage(&sources, &under, DVec3::Y, 0, centre, lift, 11, 1.5),
+            occluders.coverage(&sources, &under, DVec3::Y, 0, lift, 11, 1.5),
             None
         );
     }

@@ -159,7 +159,6 @@ pub(crate) fn compute_rows_with(
                                     &polygon,
                                     lattice.normal,
                                     e.surface,
-                                    eye,
                                     lift,
                                     h,
                                     size,
