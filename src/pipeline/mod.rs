@@ -83,7 +83,12 @@ fn drive(mut ws: Workspace<'_>, mut solver: impl Solver) -> Result<Solution> {
         }
         let pass = ws.stats.passes.len() + 1;
         let mut fresh = ws.split_marked(&marks);
-        fresh.extend(unshared);
+        // A member split just now has its children among the fresh leaves.
+        fresh.extend(
+            unshared
+                .into_iter()
+                .filter(|&k| ws.mesh.elements[k].is_leaf()),
+        );
         let new_hemicubes = solver.refined(&mut ws, &fresh, pass)?;
         ws.stats.passes.push(PassStats {
             pass,

@@ -13,10 +13,12 @@
 //!
 //! The adaptive part stays: after each solve, a group whose radiosity
 //! differs from a neighbouring group of its cluster by more than the
-//! refinement tolerance gives its members rows of their own in the next
-//! pass, as a split would elsewhere. A cluster that would make a single
-//! group (a small object) has nothing to check it against and keeps rows
-//! per facet.
+//! refinement tolerance is split, as a quadtree splits an element: its
+//! members regroup by the cells of a grid half as wide, and each new group
+//! of two or more gets a lead of its own in the next pass. So only where
+//! the light changes do groups shrink, down to single facets with rows of
+//! their own. A cluster that would make a single group (a small object) has
+//! nothing to check it against and keeps rows per facet.
 
 use super::Settings;
 use crate::formfactor::FormFactors;
@@ -40,7 +42,8 @@ pub(crate) struct RowGroups {
     /// Per leaf in a group of two or more, its group.
     group_of: SecondaryMap<ElementKey, u32>,
     groups: Vec<Group>,
-    /// Per patch, its groups (empty for patches without any).
+    /// Per patch, its groups that have not been split (empty for patches
+    /// without any).
     of_patch: BTreeMap<u32, Vec<u32>>,
 }
 
@@ -51,8 +54,10 @@ struct Group {
     lead: ElementKey,
     /// Area-weighted centre of the members.
     centre: DVec3,
-    /// True while the members copy the lead's row.
+    /// True while the members copy the lead's row; false once split.
     shared: bool,
+    /// The side of the grid cell that holds the group.
+    cell: f64,
 }
 
 impl RowGroups {
@@ -70,20 +75,10 @@ impl RowGroups {
                 continue;
             }
             // Facets by grid cell, in root order within each cell.
-            let mut cells: BTreeMap<[i64; 3], Vec<ElementKey>> = BTreeMap::new();
-            for &k in &patch.roots {
-                let e = &mesh.elements[k];
-                if !e.is_leaf() {
-                    continue;
-                }
-                let at = (e.centroid / cell).floor();
-                cells
-                    .entry([at.x as i64, at.y as i64, at.z as i64])
-                    .or_default()
-                    .push(k);
-            }
+            let leaves = patch.roots.iter().copied();
+            let leaves = leaves.filter(|&k| mesh.elements[k].is_leaf());
             let mut found = Vec::new();
-            for mut left in cells.into_values() {
+            for mut left in by_cell(mesh, leaves, cell) {
                 while !left.is_empty() {
                     let seed = mesh.surfaces()[mesh.elements[left[0]].surface as usize].normal;
                     let (members, rest): (Vec<_>, Vec<_>) = left.into_iter().partition(|&k| {
@@ -101,14 +96,17 @@ impl RowGroups {
             // so its facets keep rows of their own.
             if found.len() > 1 {
                 for members in found {
-                    groups.push(mesh, p as u32, members);
+                    let g = groups.push(mesh, members, cell);
+                    groups.of_patch.entry(p as u32).or_default().push(g);
                 }
             }
         }
         groups
     }
 
-    fn push(&mut self, mesh: &Mesh, patch: u32, members: Vec<ElementKey>) {
+    /// Adds a group of `members` (two or more) held by a cell of side
+    /// `cell`; returns its index.
+    fn push(&mut self, mesh: &Mesh, members: Vec<ElementKey>, cell: f64) -> u32 {
         let area: f64 = members.iter().map(|&k| mesh.elements[k].area).sum();
         let centre = members
             .iter()
@@ -127,16 +125,38 @@ impl RowGroups {
         for &k in &members {
             self.group_of.insert(k, g);
         }
-        self.of_patch.entry(patch).or_default().push(g);
         self.groups.push(Group {
             members,
             lead,
             centre,
             shared: true,
+            cell,
         });
+        g
     }
 
-    /// Groups formed (of two or more facets).
+    /// Splits group `g` into the groups of its members in each cell of a
+    /// grid half as wide (members alone in theirs leave every group);
+    /// returns the new groups.
+    fn split(&mut self, mesh: &Mesh, g: u32) -> Vec<u32> {
+        let group = &mut self.groups[g as usize];
+        group.shared = false;
+        let cell = 0.5 * group.cell;
+        // Members that refinement has split since have rows per child.
+        let members = group.members.clone().into_iter();
+        let members = members.filter(|&k| mesh.elements[k].is_leaf());
+        let mut children = Vec::new();
+        for members in by_cell(mesh, members, cell) {
+            if let [alone] = members[..] {
+                self.group_of.remove(alone);
+            } else {
+                children.push(self.push(mesh, members, cell));
+            }
+        }
+        children
+    }
+
+    /// Groups formed (of two or more facets), the split ones included.
     pub(crate) fn len(&self) -> usize {
         self.groups.len()
     }
@@ -172,17 +192,16 @@ impl RowGroups {
         (render, copy)
     }
 
-    /// Ends sharing for every group whose radiosity differs from a
-    /// neighbouring group of its cluster (centres within two cells) by more
-    /// than `tolerance` times the brightest reflected radiosity, in any
-    /// band. Returns the members that now need rows of their own (the leads
-    /// keep theirs), in a deterministic order.
+    /// Splits every group whose radiosity differs from a neighbouring group
+    /// of its cluster (centres within two of the larger cells) by more than
+    /// `tolerance` times the brightest reflected radiosity, in any band.
+    /// Returns the members that now need rows of their own or from a new
+    /// lead (the old leads keep theirs), in a deterministic order.
     pub(crate) fn unshare(
         &mut self,
         mesh: &Mesh,
         radiosity: &Radiosity,
         tolerance: f64,
-        patch_size: f64,
     ) -> Vec<ElementKey> {
         if self.groups.is_empty() {
             return Vec::new();
@@ -195,15 +214,13 @@ impl RowGroups {
         if reference <= 0.0 {
             return Vec::new();
         }
-        let reach2 = (2.0 * GROUP_CELL * patch_size * 3f64.sqrt()).powi(2);
         let mut ending = vec![false; self.groups.len()];
         for groups in self.of_patch.values() {
             for (i, &a) in groups.iter().enumerate() {
                 for &b in &groups[i + 1..] {
                     let (ga, gb) = (&self.groups[a as usize], &self.groups[b as usize]);
-                    if !(ga.shared || gb.shared)
-                        || (ga.centre - gb.centre).length_squared() > reach2
-                    {
+                    let reach = 2.0 * ga.cell.max(gb.cell) * 3f64.sqrt();
+                    if (ga.centre - gb.centre).length_squared() > reach * reach {
                         continue;
                     }
                     let d = (radiosity.element(ga.lead) - radiosity.element(gb.lead))
@@ -217,14 +234,41 @@ impl RowGroups {
             }
         }
         let mut fresh = Vec::new();
-        for (g, end) in self.groups.iter_mut().zip(ending) {
-            if end && g.shared {
-                g.shared = false;
-                fresh.extend(g.members.iter().copied().filter(|&k| k != g.lead));
+        let of_patch = std::mem::take(&mut self.of_patch);
+        for (patch, groups) in of_patch {
+            let mut kept = Vec::with_capacity(groups.len());
+            for g in groups {
+                if !ending[g as usize] {
+                    kept.push(g);
+                    continue;
+                }
+                let group = &self.groups[g as usize];
+                let lead = group.lead;
+                fresh.extend(group.members.iter().copied().filter(|&k| k != lead));
+                kept.extend(self.split(mesh, g));
             }
+            self.of_patch.insert(patch, kept);
         }
         fresh
     }
+}
+
+/// `keys` by the cell of a grid of side `cell` that holds their centroids,
+/// in the order of the cells and, within each, of `keys`.
+fn by_cell(
+    mesh: &Mesh,
+    keys: impl Iterator<Item = ElementKey>,
+    cell: f64,
+) -> impl Iterator<Item = Vec<ElementKey>> {
+    let mut cells: BTreeMap<[i64; 3], Vec<ElementKey>> = BTreeMap::new();
+    for k in keys {
+        let at = (mesh.elements[k].centroid / cell).floor();
+        cells
+            .entry([at.x as i64, at.y as i64, at.z as i64])
+            .or_default()
+            .push(k);
+    }
+    cells.into_values()
 }
 
 #[cfg(test)]
@@ -303,7 +347,7 @@ mod tests {
     }
 
     #[test]
-    fn a_group_differing_from_its_neighbour_stops_sharing_and_an_even_one_does_not() {
+    fn a_group_differing_from_its_neighbour_splits_and_an_even_one_does_not() {
         let scene = column(128, 16);
         let patch_size = 1.0;
         let (mesh, mut groups) = groups_of(&scene, patch_size);
@@ -311,31 +355,70 @@ mod tests {
         for k in mesh.leaves() {
             radiosity.set_element(k, Rgb::splat(1.0));
         }
-        assert!(groups
-            .unshare(&mesh, &radiosity, 0.05, patch_size)
-            .is_empty());
+        assert!(groups.unshare(&mesh, &radiosity, 0.05).is_empty());
         // One group's lead 10% darker: it and its neighbours within reach
-        // stop sharing; their members other than the leads need rows.
-        let g = groups.len() / 2;
+        // are split; their members other than the leads need new rows.
+        let before = groups.len();
+        let g = before / 2;
         let lead = groups.groups[g].lead;
         radiosity.set_element(lead, Rgb::splat(0.9));
-        let fresh = groups.unshare(&mesh, &radiosity, 0.05, patch_size);
+        let fresh = groups.unshare(&mesh, &radiosity, 0.05);
         assert!(!groups.groups[g].shared);
-        assert!(groups.groups[g]
-            .members
+        let ended: Vec<&Group> = groups.groups[..before]
             .iter()
-            .all(|k| *k == lead || fresh.contains(k)));
-        assert!(!fresh.contains(&lead));
-        let ended = groups.groups.iter().filter(|g| !g.shared).count();
+            .filter(|g| !g.shared)
+            .collect();
         assert!(
-            ended >= 2 && ended < groups.len(),
-            "{ended} of {}",
-            groups.len()
+            ended.len() >= 2 && ended.len() < before,
+            "{} of {before}",
+            ended.len()
         );
-        // A second look finds nothing new.
-        assert!(groups
-            .unshare(&mesh, &radiosity, 0.05, patch_size)
-            .is_empty());
+        let mut dropped = 0;
+        for old in &ended {
+            dropped += old.members.len() - 1;
+            for &k in &old.members {
+                assert_eq!(k != old.lead, fresh.contains(&k));
+                // Each member is now alone or in a shared group of half the
+                // cell, made of members of the same old group.
+                if let Some(&c) = groups.group_of.get(k) {
+                    let child = &groups.groups[c as usize];
+                    assert!(c as usize >= before && child.shared);
+                    assert_eq!(child.cell, 0.5 * old.cell);
+                    assert!(child.members.iter().all(|m| old.members.contains(m)));
+                }
+            }
+        }
+        assert_eq!(fresh.len(), dropped);
+        // Rows to render: members alone, and the new leads. Splitting a
+        // group into cells half as wide renders far fewer than a row per
+        // member.
+        let renders = |fresh: &[ElementKey], groups: &RowGroups| {
+            fresh
+                .iter()
+                .filter(|&&k| {
+                    groups
+                        .group_of
+                        .get(k)
+                        .is_none_or(|&c| groups.groups[c as usize].lead == k)
+                })
+                .count()
+        };
+        let rendered = renders(&fresh, &groups);
+        assert!(rendered * 2 < dropped, "{rendered} rows for {dropped}");
+        // The groups go on splitting only while the dark facet leads one
+        // that has a neighbour, and that ends.
+        let mut rounds = 0;
+        loop {
+            let more = groups.unshare(&mesh, &radiosity, 0.05);
+            if more.is_empty() {
+                break;
+            }
+            rounds += 1;
+            assert!(rounds < 8, "still splitting after {rounds} rounds");
+        }
+        // Groups that were split are no longer checked: no new look finds
+        // anything.
+        assert!(groups.unshare(&mesh, &radiosity, 0.05).is_empty());
     }
 
     #[test]

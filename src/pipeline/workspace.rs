@@ -272,12 +272,9 @@ impl<'a> Workspace<'a> {
     /// by more than the refinement tolerance; returns the members that need
     /// rows of their own, their old copies forgotten.
     pub(super) fn unshare_groups(&mut self) -> Vec<ElementKey> {
-        let fresh = self.row_groups.unshare(
-            &self.mesh,
-            &self.radiosity,
-            self.settings.refine.tolerance,
-            self.settings.patch_size_for(self.scene),
-        );
+        let fresh =
+            self.row_groups
+                .unshare(&self.mesh, &self.radiosity, self.settings.refine.tolerance);
         for &k in &fresh {
             self.form_factors.forget(k);
         }
