@@ -17,8 +17,9 @@
 //! members regroup by the cells of a grid half as wide, and each new group
 //! of two or more gets a lead of its own in the next pass. So only where
 //! the light changes do groups shrink, down to single facets with rows of
-//! their own. A cluster that would make a single group (a small object) has
-//! nothing to check it against and keeps rows per facet.
+//! their own. A cluster that would make a single group (a small object)
+//! would have nothing to check it against: it is grouped in smaller cells
+//! until it makes two or more.
 
 use super::Settings;
 use crate::formfactor::FormFactors;
@@ -35,6 +36,10 @@ pub(crate) const GROUP_CELL: f64 = 0.5;
 /// Widest angle between a member's normal and its group's first member's:
 /// the copied row was rendered facing the lead's way.
 pub(crate) const GROUP_ANGLE_DEGREES: f64 = 10.0;
+
+/// Most times a cluster that makes a single group is grouped again in cells
+/// half as wide (a 256th of the first cell at the last).
+const MAX_REGROUPS: usize = 8;
 
 /// The facet groups of a solve.
 #[derive(Debug, Default)]
@@ -68,32 +73,31 @@ impl RowGroups {
         if !settings.shared_rows {
             return groups;
         }
-        let cell = GROUP_CELL * patch_size;
         let min_cos = GROUP_ANGLE_DEGREES.to_radians().cos();
         for (p, patch) in mesh.patches.iter().enumerate() {
             if !patch.is_cluster() {
                 continue;
             }
             // Facets by grid cell, in root order within each cell.
-            let leaves = patch.roots.iter().copied();
-            let leaves = leaves.filter(|&k| mesh.elements[k].is_leaf());
-            let mut found = Vec::new();
-            for mut left in by_cell(mesh, leaves, cell) {
-                while !left.is_empty() {
-                    let seed = mesh.surfaces()[mesh.elements[left[0]].surface as usize].normal;
-                    let (members, rest): (Vec<_>, Vec<_>) = left.into_iter().partition(|&k| {
-                        let n = mesh.surfaces()[mesh.elements[k].surface as usize].normal;
-                        n.dot(seed) >= min_cos
-                    });
-                    left = rest;
-                    if members.len() > 1 {
-                        found.push(members);
-                    }
-                }
-            }
+            let leaves: Vec<ElementKey> = patch
+                .roots
+                .iter()
+                .copied()
+                .filter(|&k| mesh.elements[k].is_leaf())
+                .collect();
             // A group is checked against its cluster's other groups; a
             // cluster that makes one group (a small object) would never be,
-            // so its facets keep rows of their own.
+            // so it is grouped again in cells half as wide until it makes
+            // two or more, or none (its facets then keep rows of their own).
+            let mut cell = GROUP_CELL * patch_size;
+            let mut found = like_facets(mesh, &leaves, cell, min_cos);
+            for _ in 0..MAX_REGROUPS {
+                if found.len() != 1 {
+                    break;
+                }
+                cell *= 0.5;
+                found = like_facets(mesh, &leaves, cell, min_cos);
+            }
             if found.len() > 1 {
                 for members in found {
                     let g = groups.push(mesh, members, cell);
@@ -253,6 +257,32 @@ impl RowGroups {
     }
 }
 
+/// The groups of two or more of `leaves` (facets of one cluster) that share
+/// a grid cell of side `cell` and whose normals are within the angle whose
+/// cosine is `min_cos` of the first one's.
+fn like_facets(
+    mesh: &Mesh,
+    leaves: &[ElementKey],
+    cell: f64,
+    min_cos: f64,
+) -> Vec<Vec<ElementKey>> {
+    let normal = |k: ElementKey| mesh.surfaces()[mesh.elements[k].surface as usize].normal;
+    let mut found = Vec::new();
+    for mut left in by_cell(mesh, leaves.iter().copied(), cell) {
+        while !left.is_empty() {
+            let seed = normal(left[0]);
+            let (members, rest): (Vec<_>, Vec<_>) = left
+                .into_iter()
+                .partition(|&k| normal(k).dot(seed) >= min_cos);
+            left = rest;
+            if members.len() > 1 {
+                found.push(members);
+            }
+        }
+    }
+    found
+}
+
 /// `keys` by the cell of a grid of side `cell` that holds their centroids,
 /// in the order of the cells and, within each, of `keys`.
 fn by_cell(
@@ -311,14 +341,14 @@ mod tests {
         let (mesh, groups) = groups_of(&scene, patch_size);
         assert!(groups.len() > 10, "{} groups", groups.len());
         let mut seen = std::collections::HashSet::new();
-        let cell = GROUP_CELL * patch_size;
         let min_cos = GROUP_ANGLE_DEGREES.to_radians().cos() - 1e-12;
         for g in &groups.groups {
             assert!(g.members.len() > 1);
             assert!(g.members.contains(&g.lead));
             let normal = |k: ElementKey| mesh.surfaces()[mesh.elements[k].surface as usize].normal;
             let first = g.members[0];
-            let cell_of = |k: ElementKey| (mesh.elements[k].centroid / cell).floor();
+            assert_eq!(g.cell, GROUP_CELL * patch_size);
+            let cell_of = |k: ElementKey| (mesh.elements[k].centroid / g.cell).floor();
             for &k in &g.members {
                 assert!(seen.insert(k), "a facet in two groups");
                 assert_eq!(
@@ -344,6 +374,45 @@ mod tests {
         }
         // Most facets share: the column's 2048 facets in far fewer groups.
         assert!(seen.len() > 1500, "{} of 2048 facets grouped", seen.len());
+    }
+
+    /// A gently domed square `size` across of `n` x `n` quads, facing up,
+    /// its corner at `at`: one face cluster whose normals are within a few
+    /// degrees of one another.
+    fn dome(n: usize, size: f64, at: DVec3) -> Scene {
+        let mut b = SceneBuilder::new("dome");
+        let m = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        b.object("dome");
+        let p = |i: usize, j: usize| {
+            let (x, z) = (size * i as f64 / n as f64, size * j as f64 / n as f64);
+            let (u, v) = (x - 0.5 * size, z - 0.5 * size);
+            at + DVec3::new(x, -0.05 * (u * u + v * v) / size, z)
+        };
+        for i in 0..n {
+            for j in 0..n {
+                b.polygon(m, &[p(i, j), p(i, j + 1), p(i + 1, j + 1), p(i + 1, j)])
+                    .unwrap();
+            }
+        }
+        b.build().unwrap()
+    }
+
+    #[test]
+    fn a_small_cluster_is_grouped_in_smaller_cells_until_it_makes_two_groups() {
+        // 0.2 m across inside one 0.5 m cell, its normals within 2 degrees:
+        // one group at the first cell, so it is grouped again.
+        let scene = dome(8, 0.2, DVec3::new(0.1, 0.1, 0.1));
+        let (mesh, groups) = groups_of(&scene, 1.0);
+        assert!(groups.len() >= 2, "{} groups", groups.len());
+        for g in &groups.groups {
+            assert!(g.cell < GROUP_CELL, "cell {}", g.cell);
+            let cell_of = |k: ElementKey| (mesh.elements[k].centroid / g.cell).floor();
+            assert!(g.members.iter().all(|&k| cell_of(k) == cell_of(g.lead)));
+        }
+        // With 1 km patches the square stays in one cell down to a 256th of
+        // the first (1.95 m): it makes no groups, and keeps rows per facet.
+        let (_, coarse) = groups_of(&dome(8, 0.2, DVec3::splat(100.1)), 1e3);
+        assert_eq!(coarse.len(), 0);
     }
 
     #[test]
