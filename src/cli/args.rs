@@ -294,6 +294,11 @@ pub struct SolveSettingsArgs {
     /// comparison.
     #[arg(long = "per-facet-rows")]
     pub per_facet_rows: bool,
+    /// Draw every polygon in each hemi-cube, instead of drawing a part of
+    /// the scene that would cover less than a pixel as one sample; slower,
+    /// for comparison.
+    #[arg(long = "no-level-of-detail")]
+    pub no_level_of_detail: bool,
     /// Subdivide every patch uniformly to this depth instead of adapting.
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,

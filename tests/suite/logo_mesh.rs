@@ -529,7 +529,7 @@ fn every_level_is_within_the_issues_bounds_against_the_path_tracer() {
 }
 
 #[test]
-#[ignore = "measured for the record (50 s more): the same figures as plain gathers"]
+#[ignore = "measured for the record (50 s more): within the bounds like plain gathers"]
 fn shaped_gathers_around_logos() {
     assert_converges(&levels(2));
 }
