@@ -134,9 +134,8 @@ impl Contacts {
         }
         let (lo, hi) = bounds(polygon);
         // The pieces lie anywhere in the surface's slab (a decal 1 mm off a
-        // floor), which an element's own size would make too thin.
-        let pad =
-            DVec3::splat((SLAB * polygon_area(polygon).sqrt()).max(self.slab[surface as usize]));
+        // floor), which a slab of the element's own size would miss.
+        let pad = DVec3::splat(self.slab[surface as usize]);
         let planes = inset_planes(polygon, normal, 0.0);
         let mut largest: Option<f64> = None;
         for (piece, a, b, size) in pieces {
