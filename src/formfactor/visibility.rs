@@ -78,20 +78,66 @@ pub(crate) struct Occluders {
     pub(super) summaries: Vec<NodeSummary>,
 }
 
+/// How many of the patches under a BVH node its summary keeps.
+pub(crate) const NODE_PATCHES: usize = 8;
+
+/// One of the patches under a BVH node: a polygon of it under the node (its
+/// largest there, whose plane and centre stand for the patch's part) and the
+/// patch's area under the node.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct NodePatch {
+    /// The polygon standing for the patch's part under the node.
+    pub(crate) polygon: u32,
+    /// The area of its largest polygon under the node.
+    pub(crate) polygon_area: f32,
+    /// The patch's area under the node, as far as the children's lists know.
+    pub(crate) area: f32,
+}
+
 /// What the polygons under one BVH node add up to, for drawing the node as a
 /// single sample (see `hemicube/cull.rs`).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct NodeSummary {
-    /// The patch with the most area under the node (of the two children, the
-    /// patch of the one whose own such patch has more area).
-    pub(crate) patch: u32,
-    /// Its area under the node, as far as the children's choice knows.
-    pub(crate) patch_area: f64,
-    /// The sum of the polygons' areas times their unit normals: which way
-    /// they face, area weighted.
-    pub(crate) vector_area: DVec3,
+    /// The patches with the most area under the node, largest first (of each
+    /// child's list, what the two lists hold); `len` of them are set.
+    pub(crate) patches: [NodePatch; NODE_PATCHES],
+    /// How many of `patches` are set.
+    pub(crate) len: u8,
+    /// The area of all the polygons under the node.
+    pub(crate) area: f32,
     /// Polygons under the node.
     pub(crate) polygons: u32,
+}
+
+impl NodeSummary {
+    /// The patches kept, largest first.
+    pub(crate) fn patches(&self) -> &[NodePatch] {
+        &self.patches[..self.len as usize]
+    }
+
+    /// Keeps the [`NODE_PATCHES`] largest of `list` (patch, entry), adding
+    /// up entries of one patch; ties go to the lower patch index, so the
+    /// choice does not depend on the order of the list.
+    fn keep_largest(&mut self, list: &mut SmallVec<[(u32, NodePatch); 16]>) {
+        list.sort_unstable_by_key(|e| e.0);
+        list.dedup_by(|b, a| {
+            let same = a.0 == b.0;
+            if same {
+                a.1.area += b.1.area;
+                if b.1.polygon_area > a.1.polygon_area {
+                    a.1.polygon = b.1.polygon;
+                    a.1.polygon_area = b.1.polygon_area;
+                }
+            }
+            same
+        });
+        list.sort_by(|a, b| b.1.area.total_cmp(&a.1.area).then(a.0.cmp(&b.0)));
+        let len = list.len().min(NODE_PATCHES);
+        for (slot, e) in self.patches.iter_mut().zip(&list[..len]) {
+            *slot = e.1;
+        }
+        self.len = len as u8;
+    }
 }
 
 impl std::fmt::Debug for Occluders {
@@ -109,46 +155,46 @@ fn summarise(bvh: &Bvh2, sources: &Sources) -> Vec<NodeSummary> {
     if bvh.nodes.is_empty() {
         return out;
     }
+    let mut list: SmallVec<[(u32, NodePatch); 16]> = SmallVec::new();
     // Post order: a node is summed once both children are.
     let mut stack: Vec<(u32, bool)> = vec![(0, false)];
     while let Some((index, children_done)) = stack.pop() {
         let node = &bvh.nodes[index as usize];
+        list.clear();
+        let mut s = NodeSummary::default();
         if node.is_leaf() {
             let first = node.first_index as usize;
-            let mut s = NodeSummary::default();
-            let mut areas: SmallVec<[(u32, f64); 8]> = SmallVec::new();
             for &prim in &bvh.primitive_indices[first..first + node.prim_count as usize] {
                 let p = &sources.polygons[prim as usize];
-                let area = crate::math::polygon_area(p.corners());
-                s.vector_area += p.normal * area;
+                let area = crate::math::polygon_area(p.corners()) as f32;
                 s.polygons += 1;
-                match areas.iter_mut().find(|(id, _)| *id == p.patch) {
-                    Some(slot) => slot.1 += area,
-                    None => areas.push((p.patch, area)),
+                s.area += area;
+                list.push((
+                    p.patch,
+                    NodePatch {
+                        polygon: prim,
+                        polygon_area: area,
+                        area,
+                    },
+                ));
+            }
+        } else if children_done {
+            for child in [node.first_index, node.first_index + 1] {
+                let c = &out[child as usize];
+                s.polygons += c.polygons;
+                s.area += c.area;
+                for e in c.patches() {
+                    list.push((sources.polygons[e.polygon as usize].patch, *e));
                 }
             }
-            if let Some(&(patch, area)) = areas.iter().max_by(|a, b| a.1.total_cmp(&b.1)) {
-                s.patch = patch;
-                s.patch_area = area;
-            }
-            out[index as usize] = s;
-        } else if children_done {
-            let (a, b) = (
-                out[node.first_index as usize],
-                out[node.first_index as usize + 1],
-            );
-            let larger = if b.patch_area > a.patch_area { b } else { a };
-            out[index as usize] = NodeSummary {
-                patch: larger.patch,
-                patch_area: larger.patch_area,
-                vector_area: a.vector_area + b.vector_area,
-                polygons: a.polygons + b.polygons,
-            };
         } else {
             stack.push((index, true));
             stack.push((node.first_index, false));
             stack.push((node.first_index + 1, false));
+            continue;
         }
+        s.keep_largest(&mut list);
+        out[index as usize] = s;
     }
     out
 }

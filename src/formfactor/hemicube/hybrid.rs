@@ -69,6 +69,18 @@ impl Hemicube {
             }
         }
         self.subpixel = subpixel; // keeps its capacity; cleared per row
+        let minor = std::mem::take(&mut self.minor);
+        for m in &minor {
+            let poly = &sources.polygons[m.polygon as usize];
+            if self.covered[poly.patch as usize] > 0.0 {
+                continue;
+            }
+            if self.minor_visible(m) {
+                let exact = point_to_polygon(eye, normal, poly.corners()) * m.scale;
+                entries.push((poly.patch, exact, false));
+            }
+        }
+        self.minor = minor;
 
         if entries.len() > before {
             entries.sort_unstable_by_key(|e| e.0);
@@ -102,6 +114,23 @@ impl Hemicube {
             }
         }
         Row::from_sorted(entries.into_iter().map(|(i, f, _)| (i, f as f32)).collect())
+    }
+
+    /// Whether the patch part `m` under a sample is in view: unless what
+    /// its pixel holds lies nearer than it by more than the sample's reach.
+    /// Within the reach, what is in front is not known (the sample's own
+    /// patches are not drawn apart): it counts as seen, as scan conversion
+    /// would show part of it.
+    fn minor_visible(&self, m: &super::cull::Minor) -> bool {
+        let Some((fi, face, px)) = self.pixel_of(m.local) else {
+            return false;
+        };
+        if self.items[fi][px] == NOTHING {
+            return true;
+        }
+        let z = face.map(m.local).z;
+        let stored = f64::from(self.depth[fi][px]);
+        1.0 / (z - m.reach).max(z * 1e-3) >= stored
     }
 
     /// Whether the polygon `id`, whose centroid is `local` in the hemi-cube's

@@ -53,6 +53,9 @@ pub struct Hemicube {
     /// Front faces that covered no pixel centre (hybrid method only): polygon
     /// index and its vertex mean in local and in world coordinates.
     subpixel: Vec<(u32, DVec3, DVec3)>,
+    /// Front-facing patches under samples that did not take the pixel
+    /// (hybrid method only; see `cull.rs`).
+    minor: Vec<cull::Minor>,
     /// Per-row span limits of the polygon being scan converted.
     span_left: Vec<f64>,
     span_right: Vec<f64>,
@@ -88,6 +91,7 @@ impl Hemicube {
             covered_pixels: vec![0; patches],
             covered_touched: Vec::new(),
             subpixel: Vec::new(),
+            minor: Vec::new(),
             span_left: vec![f64::INFINITY; n],
             span_right: vec![f64::NEG_INFINITY; n],
             drawn: [Drawn::EMPTY; 5],

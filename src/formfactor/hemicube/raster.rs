@@ -48,7 +48,7 @@ impl Hemicube {
         let splats = std::mem::take(&mut self.splats);
         if let Some(cull) = cull {
             for &node in &splats {
-                self.splat(cull, node, &frame);
+                self.splat(cull, sources, node, &frame, own_surface, list_subpixel);
             }
         }
         self.splats = splats;
@@ -137,6 +137,7 @@ impl Hemicube {
             }
         }
         self.subpixel.clear();
+        self.minor.clear();
         self.stats.hemicubes += 1;
     }
 
