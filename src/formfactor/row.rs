@@ -1,5 +1,7 @@
 //! Sparse form-factor rows.
 
+use std::sync::Arc;
+
 /// The form factors from one receiver to the patches it sees: patch ids in
 /// increasing order (32 bits) with single-precision values. Patches not seen
 /// are not stored.
@@ -9,9 +11,12 @@
 /// absorbed), and, in an open scene, nothing at all (the light escapes). The
 /// row keeps the form factor of each, so that the light a receiver sends there
 /// can be accounted for: in a closed scene the three parts add up to 1.
+///
+/// Cloning a row shares its entries (facets of one group hold the one row
+/// their lead rendered).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Row {
-    entries: Box<[(u32, f32)]>,
+    entries: Arc<[(u32, f32)]>,
     back_faces: f32,
     open: f32,
     /// The share of the receiving element that other objects cover (shut
@@ -26,7 +31,7 @@ impl Row {
     pub fn from_sorted(entries: Vec<(u32, f32)>) -> Self {
         debug_assert!(entries.windows(2).all(|w| w[0].0 < w[1].0));
         Row {
-            entries: entries.into_boxed_slice(),
+            entries: entries.into(),
             back_faces: 0.0,
             open: 0.0,
             covered: 0.0,
@@ -77,7 +82,7 @@ impl Row {
             .filter(|e| e.1 != 0.0)
             .collect();
         Row {
-            entries: kept.into_boxed_slice(),
+            entries: kept.into(),
             ..self
         }
     }
@@ -128,9 +133,38 @@ impl Row {
             .map_or(0.0, |i| f64::from(self.entries[i].1))
     }
 
-    /// Bytes of heap memory held.
+    /// Bytes of heap memory held, or where clones share the entries this
+    /// row's share of them, rounded down (so that the shares of all the
+    /// holders add up to the bytes held, within a byte per holder).
     #[must_use]
     pub fn heap_bytes(&self) -> usize {
-        std::mem::size_of_val(&*self.entries)
+        std::mem::size_of_val(&*self.entries) / Arc::strong_count(&self.entries)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clones_share_their_entries_and_count_their_bytes_once() {
+        let row = Row::from_sorted(vec![(1, 0.25), (4, 0.5), (9, 0.125)]);
+        let alone = row.heap_bytes();
+        assert_eq!(alone, 3 * std::mem::size_of::<(u32, f32)>());
+        let copies: Vec<Row> = (0..3).map(|_| row.clone()).collect();
+        assert!(copies
+            .iter()
+            .all(|c| std::ptr::eq(c.entries().as_ptr(), row.entries().as_ptr())));
+        let shares: usize = copies.iter().map(Row::heap_bytes).sum::<usize>() + row.heap_bytes();
+        assert_eq!(shares, alone);
+        // A changed row holds entries of its own.
+        let scaled = row.clone().covered(0.5);
+        assert!(!std::ptr::eq(
+            scaled.entries().as_ptr(),
+            row.entries().as_ptr()
+        ));
+        assert_eq!(scaled.heap_bytes(), alone);
+        drop(copies);
+        assert_eq!(row.heap_bytes(), alone);
     }
 }
