@@ -81,17 +81,63 @@ pub(crate) struct Occluders {
 /// How many of the patches under a BVH node its summary keeps.
 pub(crate) const NODE_PATCHES: usize = 8;
 
-/// One of the patches under a BVH node: a polygon of it under the node (its
-/// largest there, whose plane and centre stand for the patch's part) and the
-/// patch's area under the node.
+/// [`NodePatch::surface`] of a part on several surfaces.
+pub(crate) const MIXED: u32 = u32::MAX;
+
+/// One of the patches under a BVH node: what a sample needs of its part
+/// there without reading the polygons (which lie scattered in memory, and
+/// reading them was most of a sample's time on the million-triangle atrium).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct NodePatch {
-    /// The polygon standing for the patch's part under the node.
-    pub(crate) polygon: u32,
-    /// The area of its largest polygon under the node.
-    pub(crate) polygon_area: f32,
+    /// The patch.
+    pub(crate) patch: u32,
+    /// The surface its polygons there lie on, or [`MIXED`] when they lie on
+    /// several (a face cluster's facets). A receiver is never under a
+    /// sample (it lies within a pixel of its own eye), so only a large
+    /// planar surface, whose polygons are one surface's, can come back to
+    /// its own receivers through a sample.
+    pub(crate) surface: u32,
     /// The patch's area under the node, as far as the children's lists know.
     pub(crate) area: f32,
+    /// The sum of its polygons' areas times their unit normals there: which
+    /// way the part faces, and its projected area in any direction it faces.
+    pub(crate) vector_area: [f32; 3],
+    /// The part's area centroid, relative to the occluders' centre.
+    pub(crate) centroid: [f32; 3],
+}
+
+impl NodePatch {
+    /// The part's vector area.
+    pub(crate) fn vector_area(&self) -> DVec3 {
+        DVec3::from(self.vector_area.map(f64::from))
+    }
+
+    /// The part's centroid in the scene, for occluders centred at `centre`.
+    pub(crate) fn centroid(&self, centre: DVec3) -> DVec3 {
+        DVec3::from(self.centroid.map(f64::from)) + centre
+    }
+
+    /// Adds `other`, a part of the same patch.
+    fn absorb(&mut self, other: &NodePatch) {
+        let (a, b) = (f64::from(self.area), f64::from(other.area));
+        let total = a + b;
+        if total > 0.0 {
+            for axis in 0..3 {
+                let (p, q) = (
+                    f64::from(self.centroid[axis]),
+                    f64::from(other.centroid[axis]),
+                );
+                self.centroid[axis] = ((p * a + q * b) / total) as f32;
+            }
+        }
+        for axis in 0..3 {
+            self.vector_area[axis] += other.vector_area[axis];
+        }
+        self.area = total as f32;
+        if self.surface != other.surface {
+            self.surface = MIXED;
+        }
+    }
 }
 
 /// What the polygons under one BVH node add up to, for drawing the node as a
@@ -115,27 +161,21 @@ impl NodeSummary {
         &self.patches[..self.len as usize]
     }
 
-    /// Keeps the [`NODE_PATCHES`] largest of `list` (patch, entry), adding
-    /// up entries of one patch; ties go to the lower patch index, so the
-    /// choice does not depend on the order of the list.
-    fn keep_largest(&mut self, list: &mut SmallVec<[(u32, NodePatch); 16]>) {
-        list.sort_unstable_by_key(|e| e.0);
+    /// Keeps the [`NODE_PATCHES`] largest of `list`, adding up the parts of
+    /// one patch; ties go to the lower patch index, so the choice does not
+    /// depend on the order of the list.
+    fn keep_largest(&mut self, list: &mut SmallVec<[NodePatch; 16]>) {
+        list.sort_unstable_by_key(|e| e.patch);
         list.dedup_by(|b, a| {
-            let same = a.0 == b.0;
+            let same = a.patch == b.patch;
             if same {
-                a.1.area += b.1.area;
-                if b.1.polygon_area > a.1.polygon_area {
-                    a.1.polygon = b.1.polygon;
-                    a.1.polygon_area = b.1.polygon_area;
-                }
+                a.absorb(b);
             }
             same
         });
-        list.sort_by(|a, b| b.1.area.total_cmp(&a.1.area).then(a.0.cmp(&b.0)));
+        list.sort_by(|a, b| b.area.total_cmp(&a.area).then(a.patch.cmp(&b.patch)));
         let len = list.len().min(NODE_PATCHES);
-        for (slot, e) in self.patches.iter_mut().zip(&list[..len]) {
-            *slot = e.1;
-        }
+        self.patches[..len].copy_from_slice(&list[..len]);
         self.len = len as u8;
     }
 }
@@ -149,13 +189,13 @@ impl std::fmt::Debug for Occluders {
 }
 
 /// The summary of every node of `bvh` over the polygons of `sources`,
-/// children before parents.
-fn summarise(bvh: &Bvh2, sources: &Sources) -> Vec<NodeSummary> {
+/// children before parents, with positions relative to `centre`.
+fn summarise(bvh: &Bvh2, sources: &Sources, centre: DVec3) -> Vec<NodeSummary> {
     let mut out = vec![NodeSummary::default(); bvh.nodes.len()];
     if bvh.nodes.is_empty() {
         return out;
     }
-    let mut list: SmallVec<[(u32, NodePatch); 16]> = SmallVec::new();
+    let mut list: SmallVec<[NodePatch; 16]> = SmallVec::new();
     // Post order: a node is summed once both children are.
     let mut stack: Vec<(u32, bool)> = vec![(0, false)];
     while let Some((index, children_done)) = stack.pop() {
@@ -166,26 +206,24 @@ fn summarise(bvh: &Bvh2, sources: &Sources) -> Vec<NodeSummary> {
             let first = node.first_index as usize;
             for &prim in &bvh.primitive_indices[first..first + node.prim_count as usize] {
                 let p = &sources.polygons[prim as usize];
-                let area = crate::math::polygon_area(p.corners()) as f32;
+                let area = crate::math::polygon_area(p.corners());
                 s.polygons += 1;
-                s.area += area;
-                list.push((
-                    p.patch,
-                    NodePatch {
-                        polygon: prim,
-                        polygon_area: area,
-                        area,
-                    },
-                ));
+                s.area += area as f32;
+                let relative = p.centre - centre;
+                list.push(NodePatch {
+                    patch: p.patch,
+                    surface: p.surface,
+                    area: area as f32,
+                    vector_area: (p.normal * area).as_vec3().to_array(),
+                    centroid: relative.as_vec3().to_array(),
+                });
             }
         } else if children_done {
             for child in [node.first_index, node.first_index + 1] {
                 let c = &out[child as usize];
                 s.polygons += c.polygons;
                 s.area += c.area;
-                for e in c.patches() {
-                    list.push((sources.polygons[e.polygon as usize].patch, *e));
-                }
+                list.extend_from_slice(c.patches());
             }
         } else {
             stack.push((index, true));
@@ -257,7 +295,7 @@ impl Occluders {
             BvhBuildParams::medium_build(),
             &mut Duration::default(),
         );
-        let summaries = summarise(&bvh, sources);
+        let summaries = summarise(&bvh, sources, centre);
         Occluders {
             bvh,
             centre,

@@ -12,8 +12,8 @@
 use super::faces::Face;
 use super::{Hemicube, BACK_FACE};
 use crate::formfactor::bvh_walk::box_below;
-use crate::formfactor::visibility::{unit, NodePatch};
-use crate::formfactor::{Occluders, Sources};
+use crate::formfactor::visibility::unit;
+use crate::formfactor::Occluders;
 use glam::DVec3;
 
 /// The hemi-cube's frame: its eye, the receiver's normal and the rotated
@@ -74,12 +74,12 @@ const LOD_PIXELS: f64 = 1.0;
 /// hybrid method's sub-pixel test.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Minor {
-    /// The polygon standing for the patch's part under the sample.
-    pub(super) polygon: u32,
-    /// Its centre in the hemi-cube's frame.
+    /// The patch.
+    pub(super) patch: u32,
+    /// The centroid of its part under the sample in the hemi-cube's frame.
     pub(super) local: DVec3,
-    /// The patch's area under the sample over the polygon's.
-    pub(super) scale: f64,
+    /// The part's unoccluded form factor.
+    pub(super) form_factor: f64,
     /// The sample's box diagonal: how far apart in depth two things under
     /// it can lie.
     pub(super) reach: f64,
@@ -165,7 +165,6 @@ impl Hemicube {
     pub(super) fn splat(
         &mut self,
         cull: &Cull<'_>,
-        sources: &Sources,
         node: u32,
         frame: &Frame,
         own_surface: u32,
@@ -180,28 +179,26 @@ impl Hemicube {
             return;
         };
         let p = face.map(local);
-        // Which way each patch faces is its largest polygon's: patches are
-        // near-planar clusters. A node's summed orientation would not do: on
-        // a closed object the front and back facets under a node cancel.
-        // Projected solid angles, of front and of back faces.
+        // Which way each patch's part faces is its vector area's: parts of
+        // patches are near-planar. The node's summed orientation would not
+        // do: on a closed object the front and back facets under a node
+        // cancel. Projected solid angles, of front and of back faces.
         let (mut front, mut back, mut kept, mut seen) = (0.0f64, 0.0f64, 0.0f64, false);
-        let mut winner: Option<NodePatch> = None;
+        let mut winner: Option<u32> = None;
         for e in summary.patches() {
-            let poly = &sources.polygons[e.polygon as usize];
             kept += f64::from(e.area);
-            if poly.surface == own_surface {
+            if e.surface == own_surface {
                 continue; // in the receiver's plane: never seen
             }
             seen = true;
-            let to_eye = frame.eye - poly.centre;
+            let to_eye = frame.eye - e.centroid(o.centre);
             let d2 = to_eye.length_squared().max(f64::MIN_POSITIVE);
-            let cos = poly.normal.dot(to_eye) / d2.sqrt();
-            let projected = f64::from(e.area) * cos.abs() / d2;
-            if cos > 0.0 {
+            let projected = e.vector_area().dot(to_eye) / (d2 * d2.sqrt());
+            if projected > 0.0 {
                 front += projected;
-                winner.get_or_insert(*e);
+                winner.get_or_insert(e.patch);
             } else {
-                back += projected;
+                back -= projected;
             }
         }
         if !seen || kept <= 0.0 {
@@ -227,19 +224,24 @@ impl Hemicube {
         let taken = if u < front { winner } else { None };
         if list_minor {
             for e in summary.patches() {
-                let poly = &sources.polygons[e.polygon as usize];
-                let is_taken = taken.is_some_and(|t| t.polygon == e.polygon);
-                if poly.surface == own_surface
-                    || is_taken
-                    || poly.normal.dot(frame.eye - poly.centre) <= 0.0
-                {
+                if e.surface == own_surface || Some(e.patch) == taken {
                     continue;
                 }
-                let scale = f64::from(e.area) / f64::from(e.polygon_area).max(f64::MIN_POSITIVE);
+                // The differential form factor at the part's centroid: a
+                // sample is under a pixel across, so far from the eye for
+                // its size.
+                let centroid = e.centroid(o.centre);
+                let to_part = centroid - frame.eye;
+                let d2 = to_part.length_squared().max(f64::MIN_POSITIVE);
+                let facing = -e.vector_area().dot(to_part);
+                let up = frame.normal.dot(to_part);
+                if facing <= 0.0 || up <= 0.0 {
+                    continue;
+                }
                 self.minor.push(Minor {
-                    polygon: e.polygon,
-                    local: frame.local(poly.centre),
-                    scale,
+                    patch: e.patch,
+                    local: frame.local(centroid),
+                    form_factor: facing * up / (std::f64::consts::PI * d2 * d2),
                     reach: 2.0 * half,
                 });
             }
@@ -252,7 +254,7 @@ impl Hemicube {
         // drawn off the centre at its own depth would lose to a surface just
         // behind it seen at a grazing angle (a decal 1 mm off its wall).
         let value = (1.0 / (p.z - half).max(p.z * 1e-3)) as f32;
-        let item = taken.map_or(BACK_FACE, |t| sources.polygons[t.polygon as usize].patch);
+        let item = taken.unwrap_or(BACK_FACE);
         self.stats.pixels_tested += 1;
         // A pixel this patch already holds has had its coverage counted:
         // samples of one finely cut patch (a decal of small triangles) can
@@ -442,5 +444,52 @@ mod tests {
         let (a, b) = (mean(&full), mean(&lod));
         eprintln!("mean row sum: every polygon {a:.5}, level of detail {b:.5}");
         assert!((b - a).abs() < 5e-4 * a, "{a} {b}");
+    }
+
+    #[test]
+    fn level_of_detail_keeps_the_light_of_a_large_scene() {
+        // The 100 000-triangle atrium at its default patch size, where
+        // samples hold many patches (a distant column's facets, a wall
+        // seen past the arcade): the rows of 402 leaves at a spread of the
+        // scene. Measured: 0.9830 mean row sum drawing every polygon,
+        // 0.9815 with level of detail; 0.9489 when every sample took its
+        // pixel for its largest patch alone.
+        let scene = atrium(100_000).unwrap();
+        let mesh = Mesh::new(&scene, scene.extent() / 10.0, 1_000_000).unwrap();
+        let sources = Sources::from_mesh(&mesh);
+        let occluders = Occluders::new(&sources);
+        let n = 64;
+        let mut cube = Hemicube::new(Arc::new(DeltaTable::new(n)), mesh.patches().len());
+        let leaves = mesh.leaves();
+        let step = leaves.len() / 400;
+        let (mut full, mut lod, mut rows) = (0.0, 0.0, 0);
+        for k in leaves.into_iter().step_by(step) {
+            let e = mesh.element(k).unwrap();
+            let normal = mesh.surfaces[e.surface as usize].normal;
+            let mut sum = |lod| {
+                cube.row_for(&RowRequest {
+                    sources: &sources,
+                    hidden_back: None,
+                    eye: e.centroid + eye_lift(normal, e.area),
+                    normal,
+                    angle: 0.3,
+                    own_surface: e.surface,
+                    method: FormFactorMethod::Hybrid,
+                    emitter_rays: None,
+                    cull: Some(Cull {
+                        occluders: &occluders,
+                        lod,
+                    }),
+                })
+                .sum()
+            };
+            full += sum(None);
+            lod += sum(Some(n));
+            rows += 1;
+        }
+        let (full, lod) = (full / f64::from(rows), lod / f64::from(rows));
+        eprintln!("{rows} rows, mean sum: every polygon {full:.4}, level of detail {lod:.4}");
+        assert!(rows > 300);
+        assert!((lod - full).abs() < 5e-3 * full, "{full} {lod}");
     }
 }

@@ -71,13 +71,8 @@ impl Hemicube {
         self.subpixel = subpixel; // keeps its capacity; cleared per row
         let minor = std::mem::take(&mut self.minor);
         for m in &minor {
-            let poly = &sources.polygons[m.polygon as usize];
-            if self.covered[poly.patch as usize] > 0.0 {
-                continue;
-            }
-            if self.minor_visible(m) {
-                let exact = point_to_polygon(eye, normal, poly.corners()) * m.scale;
-                entries.push((poly.patch, exact, false));
+            if self.covered[m.patch as usize] == 0.0 && self.minor_visible(m) {
+                entries.push((m.patch, m.form_factor, false));
             }
         }
         self.minor = minor;

@@ -48,7 +48,7 @@ impl Hemicube {
         let splats = std::mem::take(&mut self.splats);
         if let Some(cull) = cull {
             for &node in &splats {
-                self.splat(cull, sources, node, &frame, own_surface, list_subpixel);
+                self.splat(cull, node, &frame, own_surface, list_subpixel);
             }
         }
         self.splats = splats;
