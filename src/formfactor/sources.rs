@@ -3,7 +3,7 @@
 
 use super::point_to_polygon;
 use crate::mesh::{ElementKey, Mesh};
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 /// Below this ratio of a polygon's bounding radius to its distance, its
 /// unoccluded form factor is taken as the differential one (area times the
@@ -64,6 +64,107 @@ pub struct Sources {
     /// Ids of the patches that emit (their visibility is found exactly where
     /// the hemi-cube is unsure).
     pub emitters: Vec<u32>,
+    /// Per patch, the face cluster seen from afar, where it is one (see
+    /// [`FarField`]); empty when no patch is.
+    far: Vec<Option<FarField>>,
+}
+
+/// A face cluster as a whole, for its form factor from receivers far from it.
+///
+/// Each facet's differential form factor is its area times its normal
+/// dotted with a function `g` of its centroid; expanding `g` about the
+/// cluster's area centroid to first order, the sum over the facets is the
+/// vector area (areas times normals, summed) dotted with `g` there, plus the
+/// gradient of `g` contracted with the moment of the normals about the
+/// centroid (areas times normals times offsets, summed). What is left is of
+/// the order of (radius / distance) squared, as for one polygon (see
+/// [`FAR`]); the moment vanishes on a flat cluster and carries the curvature
+/// of a curved one, whose first-order terms would otherwise not cancel (2%
+/// to 5% off at a radius 0.02 of the distance on the atrium's columns). It
+/// holds while every facet faces the receiver, which the cluster's normal
+/// cone tells.
+#[derive(Clone, Copy, Debug)]
+struct FarField {
+    centroid: DVec3,
+    vector_area: DVec3,
+    /// Sum over the facets of area times normal times the transposed offset
+    /// of the facet's centroid from `centroid`.
+    moment: DMat3,
+    /// Bounding radius about `centroid`.
+    radius: f64,
+    /// Every facet faces a point whose direction from the centroid, as a
+    /// unit vector, has a dot product with the unit vector area above this:
+    /// the sine of the cone's half-angle about it.
+    facing: f64,
+}
+
+impl FarField {
+    /// The far field of `polygons`, or `None` where their normals do not all
+    /// lie within a right angle of their vector area.
+    fn of(polygons: &[SourcePolygon]) -> Option<Self> {
+        let (mut area, mut moment, mut vector_area) = (0.0, DVec3::ZERO, DVec3::ZERO);
+        for q in polygons {
+            let (a, c) = area_and_centroid(q.corners());
+            area += a;
+            moment += c * a;
+            vector_area += q.normal * a;
+        }
+        let axis = vector_area.try_normalize()?;
+        if area <= 0.0 {
+            return None;
+        }
+        let centroid = moment / area;
+        let mut facing: f64 = 0.0;
+        let mut radius: f64 = 0.0;
+        let mut normal_moment = DMat3::ZERO;
+        for q in polygons {
+            let (a, c) = area_and_centroid(q.corners());
+            let offset = c - centroid;
+            let n = q.normal * a;
+            normal_moment += DMat3::from_cols(n * offset.x, n * offset.y, n * offset.z);
+            let cos = q.normal.dot(axis);
+            if cos <= 0.0 {
+                return None;
+            }
+            facing = facing.max((1.0 - cos * cos).max(0.0).sqrt());
+            for v in q.corners() {
+                radius = radius.max((*v - centroid).length());
+            }
+        }
+        Some(FarField {
+            centroid,
+            vector_area,
+            moment: normal_moment,
+            radius,
+            facing,
+        })
+    }
+
+    /// The cluster's form factor from (`eye`, unit `normal`) where the
+    /// receiver is far enough and every facet faces it, else `None`.
+    fn form_factor(&self, eye: DVec3, normal: DVec3) -> Option<f64> {
+        let d = self.centroid - eye;
+        let r2 = d.length_squared();
+        let r = r2.sqrt();
+        let toward = -self.vector_area.dot(d);
+        let up = normal.dot(d);
+        // The cosines at either end, the cluster's less its cone (beyond
+        // which some facet would show its back).
+        let (receiving, sending) = (
+            up / r,
+            toward / (self.vector_area.length() * r) - self.facing,
+        );
+        // What the expansion leaves is of the order of (radius / distance)
+        // squared, relative to the form factor over the smaller cosine.
+        if self.radius * self.radius >= FAR * FAR * r2 * receiving.min(sending) || up <= self.radius
+        {
+            return None;
+        }
+        let m = &self.moment;
+        let trace = m.x_axis.x + m.y_axis.y + m.z_axis.z;
+        let gradient = -up * trace - d.dot(*m * normal) + 4.0 * up * d.dot(*m * d) / r2;
+        Some((toward * up + gradient) / (std::f64::consts::PI * r2 * r2))
+    }
 }
 
 impl Sources {
@@ -96,6 +197,14 @@ impl Sources {
         sources.emitters = (0..mesh.patches.len() as u32)
             .filter(|&p| mesh.patch_emission(p).max_band() > 0.0)
             .collect();
+        if mesh.patches.iter().any(|p| p.is_cluster()) {
+            sources.far = (0..mesh.patches.len() as u32)
+                .map(|p| match sources.patch(p) {
+                    [_] => None,
+                    many => FarField::of(many),
+                })
+                .collect();
+        }
         sources
     }
 
@@ -120,6 +229,7 @@ impl Sources {
             polygons,
             first: (0..=keys.len() as u32).collect(),
             emitters: Vec::new(),
+            far: Vec::new(),
         }
     }
 
@@ -135,6 +245,7 @@ impl Sources {
             polygons,
             first,
             emitters: Vec::new(),
+            far: Vec::new(),
         }
     }
 
@@ -158,18 +269,29 @@ impl Sources {
 
     /// Lambert's unoccluded form factor from (`eye`, unit `normal`) to patch
     /// `p`, clipped to the horizon: its polygon's, or for a face cluster the
-    /// sum over its polygons that face the eye (the others show their backs).
+    /// sum over its polygons that face the eye (the others show their backs),
+    /// taken as a whole where the eye is far from it (see [`FarField`]).
     #[must_use]
     pub fn exact_form_factor(&self, p: u32, eye: DVec3, normal: DVec3) -> f64 {
         match self.patch(p) {
             [one] => one.form_factor(eye, normal),
-            many => many
-                .iter()
-                .filter(|q| q.faces(eye))
-                .map(|q| q.form_factor(eye, normal))
-                .sum(),
+            many => self
+                .far
+                .get(p as usize)
+                .and_then(|f| f.as_ref())
+                .and_then(|f| f.form_factor(eye, normal))
+                .unwrap_or_else(|| facet_sum(many, eye, normal)),
         }
     }
+}
+
+/// The sum of the form factors of the `polygons` that face `eye`.
+fn facet_sum(polygons: &[SourcePolygon], eye: DVec3, normal: DVec3) -> f64 {
+    polygons
+        .iter()
+        .filter(|q| q.faces(eye))
+        .map(|q| q.form_factor(eye, normal))
+        .sum()
 }
 
 impl SourcePolygon {
@@ -286,5 +408,43 @@ mod tests {
         }
         assert!(far > 3000, "{far} polygons took the differential form");
         assert!(worst < 1e-3, "worst relative difference {worst:.2e}");
+    }
+
+    #[test]
+    fn far_face_clusters_match_the_sum_over_their_facets() {
+        // Every face cluster of the 10k atrium from the centres of a spread
+        // of its leaves: taken whole where far, against the sum over its
+        // facets (measured: 6.6e-4 at worst; 1.5e-2 when the distance did
+        // not depend on the cosines, 5.5e-2 without the normals' moment).
+        use crate::mesh::Mesh;
+        let scene = crate::scenes::atrium(10_000).unwrap();
+        let mesh = Mesh::new(&scene, scene.extent() / 10.0, 1_000_000).unwrap();
+        let sources = Sources::from_mesh(&mesh);
+        let clusters: Vec<u32> = (0..sources.patch_count() as u32)
+            .filter(|&p| sources.patch(p).len() > 1)
+            .collect();
+        assert!(clusters.len() > 100);
+        let (mut whole, mut pairs, mut worst) = (0, 0, 0.0f64);
+        for k in mesh.leaves().into_iter().step_by(97) {
+            let e = mesh.element(k).unwrap();
+            let normal = mesh.surfaces[e.surface as usize].normal;
+            let eye = e.centroid + normal * 1e-3;
+            for &p in &clusters {
+                pairs += 1;
+                let sum = facet_sum(sources.patch(p), eye, normal);
+                let far = sources.far[p as usize].and_then(|f| f.form_factor(eye, normal));
+                let Some(far) = far else {
+                    assert_eq!(sources.exact_form_factor(p, eye, normal), sum);
+                    continue;
+                };
+                whole += 1;
+                assert_eq!(sources.exact_form_factor(p, eye, normal), far);
+                let rel = (far - sum).abs() / sum;
+                worst = worst.max(rel);
+            }
+        }
+        eprintln!("{whole} of {pairs} taken whole, worst relative difference {worst:.2e}");
+        assert!(whole > 1000, "{whole}");
+        assert!(worst < 1e-3, "{worst}");
     }
 }
