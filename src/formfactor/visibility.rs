@@ -102,7 +102,9 @@ pub(crate) struct NodePatch {
     /// The sum of its polygons' areas times their unit normals there: which
     /// way the part faces, and its projected area in any direction it faces.
     pub(crate) vector_area: [f32; 3],
-    /// The part's area centroid, relative to the occluders' centre.
+    /// The area-weighted mean of its polygons' vertex means there (their
+    /// centroids, but for quads that are not parallelograms), relative to
+    /// the occluders' centre.
     pub(crate) centroid: [f32; 3],
 }
 

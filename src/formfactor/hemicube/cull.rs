@@ -161,7 +161,6 @@ impl Hemicube {
     /// lists polygons that cover no pixel centre; otherwise a patch whose
     /// every part is under samples another patch takes (a distant column's
     /// facets) would get nothing.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn splat(
         &mut self,
         cull: &Cull<'_>,
@@ -327,15 +326,21 @@ mod tests {
     use crate::scenes::atrium;
     use std::sync::Arc;
 
-    /// Rows at a spread of the leaves, on hemi-cubes of `n` pixels across:
+    /// Rows at every `step`-th leaf, on hemi-cubes of `n` pixels across:
     /// every polygon drawn with `lod` `None`, otherwise culled through the
     /// BVH with that level of detail.
-    fn rows(mesh: &Mesh, sources: &Sources, lod: Option<Option<usize>>, n: usize) -> Vec<Row> {
+    fn rows_every(
+        mesh: &Mesh,
+        sources: &Sources,
+        lod: Option<Option<usize>>,
+        n: usize,
+        step: usize,
+    ) -> Vec<Row> {
         let occluders = Occluders::new(sources);
         let mut cube = Hemicube::new(Arc::new(DeltaTable::new(n)), mesh.patches().len());
         mesh.leaves()
             .into_iter()
-            .step_by(23)
+            .step_by(step)
             .map(|k| {
                 let e = mesh.element(k).unwrap();
                 let normal = mesh.surfaces[e.surface as usize].normal;
@@ -355,6 +360,16 @@ mod tests {
                 })
             })
             .collect()
+    }
+
+    /// [`rows_every`] 23rd leaf.
+    fn rows(mesh: &Mesh, sources: &Sources, lod: Option<Option<usize>>, n: usize) -> Vec<Row> {
+        rows_every(mesh, sources, lod, n, 23)
+    }
+
+    /// The mean sum of `rows`.
+    fn mean_sum(rows: &[Row]) -> f64 {
+        rows.iter().map(Row::sum).sum::<f64>() / rows.len() as f64
     }
 
     fn scene() -> (Mesh, Sources) {
@@ -440,8 +455,7 @@ mod tests {
         let (mesh, sources) = scene();
         let full = rows(&mesh, &sources, Some(None), 64);
         let lod = rows(&mesh, &sources, Some(Some(64)), 64);
-        let mean = |rows: &[Row]| rows.iter().map(Row::sum).sum::<f64>() / rows.len() as f64;
-        let (a, b) = (mean(&full), mean(&lod));
+        let (a, b) = (mean_sum(&full), mean_sum(&lod));
         eprintln!("mean row sum: every polygon {a:.5}, level of detail {b:.5}");
         assert!((b - a).abs() < 5e-4 * a, "{a} {b}");
     }
@@ -457,37 +471,11 @@ mod tests {
         let scene = atrium(100_000).unwrap();
         let mesh = Mesh::new(&scene, scene.extent() / 10.0, 1_000_000).unwrap();
         let sources = Sources::from_mesh(&mesh);
-        let occluders = Occluders::new(&sources);
-        let n = 64;
-        let mut cube = Hemicube::new(Arc::new(DeltaTable::new(n)), mesh.patches().len());
-        let leaves = mesh.leaves();
-        let step = leaves.len() / 400;
-        let (mut full, mut lod, mut rows) = (0.0, 0.0, 0);
-        for k in leaves.into_iter().step_by(step) {
-            let e = mesh.element(k).unwrap();
-            let normal = mesh.surfaces[e.surface as usize].normal;
-            let mut sum = |lod| {
-                cube.row_for(&RowRequest {
-                    sources: &sources,
-                    hidden_back: None,
-                    eye: e.centroid + eye_lift(normal, e.area),
-                    normal,
-                    angle: 0.3,
-                    own_surface: e.surface,
-                    method: FormFactorMethod::Hybrid,
-                    emitter_rays: None,
-                    cull: Some(Cull {
-                        occluders: &occluders,
-                        lod,
-                    }),
-                })
-                .sum()
-            };
-            full += sum(None);
-            lod += sum(Some(n));
-            rows += 1;
-        }
-        let (full, lod) = (full / f64::from(rows), lod / f64::from(rows));
+        let (n, step) = (64, mesh.leaf_count() / 400);
+        let full = rows_every(&mesh, &sources, Some(None), n, step);
+        let lod = rows_every(&mesh, &sources, Some(Some(n)), n, step);
+        let rows = full.len();
+        let (full, lod) = (mean_sum(&full), mean_sum(&lod));
         eprintln!("{rows} rows, mean sum: every polygon {full:.4}, level of detail {lod:.4}");
         assert!(rows > 300);
         assert!((lod - full).abs() < 5e-3 * full, "{full} {lod}");
