@@ -285,9 +285,11 @@ pub struct SolveSettingsArgs {
     /// Final gathers in which each element sees an unevenly lit patch close
     /// by as its parts (its elements) rather than its mean, e.g. a bench the
     /// floor in its own shadow (gauss-seidel only); 0 gathers patch means,
-    /// as plain substructuring does. Try 2 in cluttered scenes.
-    #[arg(long = "shaped-gathers", value_name = "N", default_value_t = 0)]
-    pub shaped_gathers: usize,
+    /// as plain substructuring does. Try 2 in cluttered scenes [default: 1
+    /// with gauss-seidel's full solution, 0 with the progressive solver or
+    /// --bounces]
+    #[arg(long = "shaped-gathers", value_name = "N")]
+    pub shaped_gathers: Option<usize>,
     /// Render a row for every facet of a finely tessellated object, instead
     /// of one per group of neighbouring facets that face alike (groups that
     /// come out unevenly lit get rows per facet anyway); slower, for

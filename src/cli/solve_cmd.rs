@@ -179,6 +179,8 @@ struct Report<'a> {
     memory: Memory<'a>,
     /// Per shaped gather, the patches seen by their parts.
     shaped_sources: &'a [usize],
+    /// Per shaped gather, the corrections of the patch radiosities.
+    shaped_corrections: &'a [usize],
     final_max_difference: f64,
     /// `null`: the full solution; N: emitted light and N reflections.
     bounces: Option<u32>,
@@ -339,6 +341,7 @@ fn run_in_pool(
             peak_resident_bytes: super::peak_memory::peak_resident_bytes(),
         },
         shaped_sources: &s.shaped_sources,
+        shaped_corrections: &s.shaped_corrections,
         final_max_difference: s.final_max_difference,
         bounces: s.bounces,
         patch_size: s.patch_size,

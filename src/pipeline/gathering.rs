@@ -11,13 +11,59 @@ use crate::math::Rgb;
 use crate::mesh::ElementKey;
 use crate::refine::mark_sources;
 use crate::solution::Solution;
-use crate::solve::scene_is_closed;
 use crate::solve::source_shape::SourceShapes;
 use crate::solve::{
-    gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, GatherOptions, GatherTotals,
-    PatchSystem, SolveReport,
+    gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, gauss_seidel_with_source,
+    shaped_factors, GatherOptions, GatherTotals, PatchSystem, SolveReport,
 };
+use crate::solve::{scene_is_closed, weight, Radiosity};
 use std::time::Instant;
+
+/// Most corrections of the patch radiosities after a shaped gather (see
+/// `Gathering::shaped_gather`); each shrinks the change by about the shapes'
+/// effect on the patch system, so one or two reach the solver's tolerance.
+const LEVEL_CORRECTIONS: usize = 3;
+
+/// The corrections after a shaped gather stop when no patch's mean moves
+/// from what the system gives it by more than this fraction of the largest
+/// patch radiosity.
+const LEVEL_TOLERANCE: f64 = 1e-4;
+
+/// Per patch, the mean of `radiosity` over its leaves weighted as its row
+/// weighs them (see `crate::solve::PatchSystem`), or their area mean when they
+/// weigh nothing.
+fn weighted_patch_means(
+    ws: &Workspace<'_>,
+    radiosity: &Radiosity,
+    leaves: &[ElementKey],
+    closed: bool,
+) -> Vec<Rgb> {
+    let n = ws.mesh.patches.len();
+    let (mut weighted, mut by_area) = (vec![(0.0, Rgb::ZERO); n], vec![(0.0, Rgb::ZERO); n]);
+    for &k in leaves {
+        let e = &ws.mesh.elements[k];
+        let b = radiosity.element(k);
+        let w = weight(&ws.mesh, &ws.form_factors, k, closed);
+        let p = e.patch as usize;
+        weighted[p].0 += w;
+        weighted[p].1 += b * w;
+        by_area[p].0 += e.area;
+        by_area[p].1 += b * e.area;
+    }
+    weighted
+        .iter()
+        .zip(&by_area)
+        .map(|(&(w, wb), &(a, ab))| {
+            if w > 0.0 {
+                wb * (1.0 / w)
+            } else if a > 0.0 {
+                ab * (1.0 / a)
+            } else {
+                Rgb::ZERO
+            }
+        })
+        .collect()
+}
 
 /// Gauss-Seidel on the patch system, then the gather.
 pub(crate) struct Gathering {
@@ -105,9 +151,9 @@ impl Solver for Gathering {
     }
 
     fn finish(mut self, mut ws: Workspace<'_>) -> Solution {
-        if ws.settings.bounces.is_none() && ws.settings.shaped_gathers > 0 {
+        if ws.settings.bounces.is_none() && ws.settings.shaped_gather_count() > 0 {
             let mut shaped = false;
-            for _ in 0..ws.settings.shaped_gathers {
+            for _ in 0..ws.settings.shaped_gather_count() {
                 shaped |= self.shaped_gather(&mut ws);
             }
             if shaped {
@@ -139,7 +185,7 @@ impl Gathering {
             rowless: plan.rowless_patch.as_deref(),
             balance: Some(&self.system.balance),
             direct: ws.direct.as_ref(),
-            shapes: None,
+            factors: None,
         };
         let (report, totals) = if let Some(n) = ws.settings.bounces {
             gather_bounces(
@@ -188,16 +234,19 @@ impl Gathering {
         ws.stats.shaped_sources.push(shapes.len());
         if shapes.len() == 0 {
             // The gather would repeat the last one.
+            ws.stats.shaped_corrections.push(0);
             return false;
         }
         let plan = &ws.plan;
-        let options = GatherOptions {
+        let mut options = GatherOptions {
             grey: plan.grey,
             rowless: plan.rowless_patch.as_deref(),
             balance: Some(&self.system.balance),
             direct: ws.direct.as_ref(),
-            shapes: Some(&shapes),
+            factors: None,
         };
+        let factors = shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options);
+        options.factors = factors.as_ref();
         self.totals = gather_with(
             &ws.mesh,
             &ws.form_factors,
@@ -205,6 +254,75 @@ impl Gathering {
             &self.b,
             &options,
         );
+        // The shaped gather moves light between receivers that reflect
+        // differently, so its elements no longer average to a solution of
+        // the patch system, and the light they pass on no longer balances
+        // what they receive. The patch radiosities are corrected for what
+        // the shapes change: each patch's mean over its elements, weighted
+        // as its row weighs them, less the same mean after a plain gather
+        // from the same radiosities. The system is solved again with that
+        // change as extra emission, from the last radiosities, and gathered
+        // again with the same factors, until the change stays put.
+        let plain_options = GatherOptions {
+            factors: None,
+            ..options
+        };
+        let mut corrections = 0;
+        let mut last: Option<Vec<Rgb>> = None;
+        for _ in 0..=LEVEL_CORRECTIONS {
+            let mut plain = ws.radiosity.clone();
+            gather_with(
+                &ws.mesh,
+                &ws.form_factors,
+                &mut plain,
+                &self.b,
+                &plain_options,
+            );
+            let shaped = weighted_patch_means(ws, &ws.radiosity, &leaves, closed);
+            let means = weighted_patch_means(ws, &plain, &leaves, closed);
+            let change: Vec<Rgb> = shaped.iter().zip(&means).map(|(s, m)| *s - *m).collect();
+            let largest = self.b.iter().map(|x| x.max_band()).fold(0.0, f64::max);
+            let moved = last.as_ref().map_or(f64::INFINITY, |last| {
+                change
+                    .iter()
+                    .zip(last)
+                    .map(|(c, l)| (*c - *l).abs().max_band())
+                    .fold(0.0, f64::max)
+            });
+            if moved <= LEVEL_TOLERANCE * largest || corrections == LEVEL_CORRECTIONS {
+                break;
+            }
+            let source: Vec<Rgb> = self
+                .system
+                .emission
+                .iter()
+                .zip(&change)
+                .map(|(e, c)| *e + *c)
+                .collect();
+            last = Some(change);
+            let before = self.b.clone();
+            match gauss_seidel_with_source(&self.system, &source, &mut self.b, &ws.settings.solver)
+            {
+                Ok(report) => self.iterations += report.iterations,
+                Err(e) => {
+                    self.b = before;
+                    ws.stats.warnings.push(format!(
+                        "the patch radiosities were not corrected after a shaped gather ({e}); \
+                         its light may not balance"
+                    ));
+                    break;
+                }
+            }
+            corrections += 1;
+            self.totals = gather_with(
+                &ws.mesh,
+                &ws.form_factors,
+                &mut ws.radiosity,
+                &self.b,
+                &options,
+            );
+        }
+        ws.stats.shaped_corrections.push(corrections);
         ws.stats.seconds.solve += t.elapsed().as_secs_f64();
         true
     }

@@ -19,7 +19,7 @@ mod strategy;
 mod workspace;
 
 pub use progress::{Progress, Stage};
-pub use settings::{Settings, DEFAULT_MAX_MEMORY, MAX_SHAPED_GATHERS};
+pub use settings::{Settings, DEFAULT_MAX_MEMORY, DEFAULT_SHAPED_GATHERS, MAX_SHAPED_GATHERS};
 pub use shooting::Preview;
 pub use skips::Skips;
 pub use stats::{DirectFigures, MemoryFigures};

@@ -61,11 +61,14 @@ pub struct Settings {
     pub bounces: Option<u32>,
     /// Gathers after the last solve that take each unevenly lit source
     /// patch, seen from close by, by its parts rather than its mean (see
-    /// `crate::solve::source_shape`); 0 gathers every patch's mean, as the
-    /// substructuring method does. Each gather starts from the last one's
-    /// element radiosities. Gathering solver only, and not with `bounces`:
-    /// either is refused by [`Settings::validate`].
-    pub shaped_gathers: usize,
+    /// `crate::solve::source_shape`); `Some(0)` gathers every patch's mean,
+    /// as the substructuring method does. Each gather starts from the last
+    /// one's element radiosities. `None` (the default) is
+    /// [`DEFAULT_SHAPED_GATHERS`] for the gathering solver's full solution
+    /// and 0 for the progressive solver or a fixed number of bounces (see
+    /// [`Settings::shaped_gather_count`]). A positive count with either of
+    /// those is refused by [`Settings::validate`].
+    pub shaped_gathers: Option<usize>,
     /// Neighbouring facets of a face cluster whose normals agree share one
     /// row, rendered at the facet nearest their centre, until the solution
     /// says they differ (see `crate::pipeline`'s row groups): one hemi-cube
@@ -94,12 +97,18 @@ impl Default for Settings {
             max_patches: usize::MAX,
             max_memory: DEFAULT_MAX_MEMORY,
             bounces: None,
-            shaped_gathers: 0,
+            shaped_gathers: None,
             shared_rows: true,
             skips: Skips::default(),
         }
     }
 }
+
+/// Shaped gathers the gathering solver makes unless told: one takes most of
+/// the gain (the 100 000-triangle atrium's mean per-object error falls from
+/// 5.8% to 1.8%, the Ferren sculpture's from 4.1% to 2.3%) for a few percent
+/// of the time; a second moves the atrium's by another tenth.
+pub const DEFAULT_SHAPED_GATHERS: usize = 1;
 
 /// The most shaped gathers: each changes the next by less (two already
 /// agree closely), so more only cost time.
@@ -114,6 +123,20 @@ impl Settings {
     pub fn patch_size_for(&self, scene: &Scene) -> f64 {
         self.patch_size
             .unwrap_or_else(|| scene.extent() / PATCHES_PER_DIAMETER)
+    }
+
+    /// How many shaped gathers the solve makes: [`Settings::shaped_gathers`]
+    /// when set, else [`DEFAULT_SHAPED_GATHERS`] for the gathering solver's
+    /// full solution and 0 otherwise.
+    #[must_use]
+    pub fn shaped_gather_count(&self) -> usize {
+        self.shaped_gathers.unwrap_or(
+            if self.solver_kind == SolverKind::Progressive || self.bounces.is_some() {
+                0
+            } else {
+                DEFAULT_SHAPED_GATHERS
+            },
+        )
     }
 
     /// Checks every setting's range; the error names the setting.
@@ -145,22 +168,20 @@ impl Settings {
                     .to_string(),
             );
         }
-        if self.shaped_gathers > MAX_SHAPED_GATHERS {
+        let shaped = self.shaped_gathers.unwrap_or(0);
+        if shaped > MAX_SHAPED_GATHERS {
             return bad(
                 "shaped-gathers",
-                format!(
-                    "must be at most {MAX_SHAPED_GATHERS}, got {}",
-                    self.shaped_gathers
-                ),
+                format!("must be at most {MAX_SHAPED_GATHERS}, got {shaped}"),
             );
         }
-        if self.shaped_gathers > 0 && self.solver_kind == SolverKind::Progressive {
+        if shaped > 0 && self.solver_kind == SolverKind::Progressive {
             return bad(
                 "shaped-gathers",
                 "shaped gathers apply to the gathering solver (gauss-seidel) only".to_string(),
             );
         }
-        if self.shaped_gathers > 0 && self.bounces.is_some() {
+        if shaped > 0 && self.bounces.is_some() {
             return bad(
                 "shaped-gathers",
                 "shaped gathers refine the full solution; with a fixed number of bounces \

@@ -224,6 +224,9 @@ pub struct SolveStats {
     /// Per shaped gather ([`Settings::shaped_gathers`]), the patches seen by
     /// their parts because their elements differ.
     pub shaped_sources: Vec<usize>,
+    /// Per shaped gather, how many times the patch radiosities were solved
+    /// again for what it changed (see `crate::solve::source_shape`).
+    pub shaped_corrections: Vec<usize>,
     /// Largest remaining neighbour difference (relative), at the last check.
     pub final_max_difference: f64,
     /// What was computed: `None` (JSON `null`) the full solution, `Some(n)`

@@ -1,6 +1,7 @@
 //! One gather from patches to leaf elements.
 
 use super::balance::Balance;
+use super::source_shape::{EntryFactors, SourceShapes};
 use super::Radiosity;
 use crate::formfactor::{FormFactors, RowView};
 use crate::math::Rgb;
@@ -79,9 +80,35 @@ pub(crate) struct GatherOptions<'a> {
     /// none); its reflection joins the leaf's emission, and the power it
     /// brings joins the emitted and absorbed totals.
     pub direct: Option<&'a super::DirectLight>,
-    /// The unevenly lit patches, seen by their parts from near receivers
-    /// (see [`super::source_shape`]); `None` gathers every patch's mean.
-    pub shapes: Option<&'a super::source_shape::SourceShapes>,
+    /// The factors on the patch radiosities that each row gathers, for the
+    /// unevenly lit patches seen by their parts from near receivers (see
+    /// [`super::source_shape`] and [`shaped_factors`]); `None` gathers
+    /// every patch's mean.
+    pub factors: Option<&'a EntryFactors>,
+}
+
+/// The factors a gather with `options` puts on the patch radiosities of
+/// `shapes` (see [`SourceShapes::entry_factors`]); `None` when no patch is
+/// unevenly lit.
+pub(crate) fn shaped_factors(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    shapes: &SourceShapes,
+    options: &GatherOptions<'_>,
+) -> Option<EntryFactors> {
+    let leaves: Vec<ElementKey> = mesh.leaves();
+    let balance = options.balance.filter(|x| !x.seen.is_empty());
+    // As the gather scales each row: a receiver that takes no part in the
+    // balance gathers by its row as it is.
+    let row_scale = |i: usize| {
+        let patch = mesh.elements[leaves[i]].patch as usize;
+        if balance.is_some_and(|x| x.is_excluded(patch)) {
+            1.0
+        } else {
+            options.balance.map_or(1.0, |x| x.receiver(i))
+        }
+    };
+    shapes.entry_factors(mesh, form_factors, &leaves, row_scale)
 }
 
 /// [`gather`] with `options`.
@@ -119,10 +146,7 @@ pub(crate) fn gather_with(
         let patch = mesh.elements[leaves[i]].patch as usize;
         balance.is_some_and(|x| x.is_excluded(patch))
     };
-    let row_scale = |i: usize| if excluded(i) { 1.0 } else { receiver_scale(i) };
-    let factors = options
-        .shapes
-        .and_then(|s| s.entry_factors(mesh, form_factors, &leaves, row_scale));
+    let factors = options.factors;
     // Per leaf: radiosity, irradiance, and the form factor of its row to
     // patches without rows.
     let results: Vec<(Rgb, Rgb, f64)> = leaves

@@ -201,10 +201,21 @@ pub fn gauss_seidel(
     b: &mut [Rgb],
     settings: &SolverSettings,
 ) -> Result<SolveReport> {
+    gauss_seidel_with_source(system, &system.emission, b, settings)
+}
+
+/// [`gauss_seidel`] with `source` in place of the system's emission, from
+/// `b`.
+pub(crate) fn gauss_seidel_with_source(
+    system: &PatchSystem,
+    source: &[Rgb],
+    b: &mut [Rgb],
+    settings: &SolverSettings,
+) -> Result<SolveReport> {
     let q = checked_contraction(system)?;
     let bands = BandSystem {
         rows: &system.rows,
-        emission: &system.emission,
+        emission: source,
         reflectance: &system.reflectance,
     };
     iterate(&bands, q, b, settings)

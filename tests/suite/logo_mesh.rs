@@ -364,7 +364,7 @@ fn levels(shaped_gathers: usize) -> Vec<Level> {
     for patch_size in PATCH_SIZES {
         let settings = Settings {
             patch_size: Some(patch_size),
-            shaped_gathers,
+            shaped_gathers: Some(shaped_gathers),
             ..Settings::default()
         };
         let sol = radiosity::solve(scene, &settings, &|_| {}).unwrap();

@@ -56,7 +56,7 @@ fn gathered_and_shot(
     // The progressive solver takes every patch by its mean (no shaped
     // gathers), so the gathering solve it is held to does too.
     let flat = Settings {
-        shaped_gathers: 0,
+        shaped_gathers: Some(0),
         ..settings.clone()
     };
     let gathered = radiosity::solve(scene, &flat, &|_| {}).unwrap();

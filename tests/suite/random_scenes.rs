@@ -189,6 +189,14 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
             );
         }
     }
+    // The progressive solver gathers patch means; compare it with the
+    // gathering solver doing the same.
+    let means = Settings {
+        shaped_gathers: Some(0),
+        ..quick_settings(0.5)
+    };
+    let sol = radiosity::solve(&scene, &means, &|_| {})
+        .map_err(|e| TestCaseError::fail(format!("solve failed: {e}")))?;
     check_progressive(&scene, &sol)
 }
 

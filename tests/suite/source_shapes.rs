@@ -75,7 +75,7 @@ fn solve(scene: &Scene, shaped_gathers: usize) -> Solution {
     let settings = Settings {
         // The floor is one patch.
         patch_size: Some(4.0),
-        shaped_gathers,
+        shaped_gathers: Some(shaped_gathers),
         ..Settings::default()
     };
     radiosity::solve(scene, &settings, &|_| {}).unwrap()
@@ -129,26 +129,29 @@ fn a_panel_at_the_dark_end_of_a_floor_patch_gathers_the_dark_end() {
     );
     eprintln!("panel error: patch means {before:.4}, shaped {after:.4}");
     // The floor's mean is about five times what the panel sees of it
-    // (measured 4.1 relative error); shaped, 0.25.
+    // (measured 4.2 relative error); shaped, 0.09 (0.25 before the patch
+    // radiosities were corrected for what the shapes change).
     assert!(before > 2.0, "{before}");
-    assert!(after < 0.4, "{before} -> {after}");
-    // The floor gathers from the lamp, an even patch: nearly unchanged.
+    assert!(after < 0.15, "{before} -> {after}");
+    // The floor gathers mostly from the lamp, an even patch; the darker
+    // panel it also sees brings it closer to the reference (measured 0.39%
+    // -> 0.13%), never farther.
     let floor = (
         error(&scene, &flat, &reference, "floor"),
         error(&scene, &shaped, &reference, "floor"),
     );
-    assert!((floor.0 - floor.1).abs() < 1e-3, "{floor:?}");
+    assert!(floor.1 <= floor.0 + 1e-4, "{floor:?}");
 }
 
 #[test]
 fn more_shaped_gathers_than_the_limit_are_refused_naming_the_setting() {
     let ok = Settings {
-        shaped_gathers: radiosity::pipeline::MAX_SHAPED_GATHERS,
+        shaped_gathers: Some(radiosity::pipeline::MAX_SHAPED_GATHERS),
         ..Settings::default()
     };
     assert!(ok.validate().is_ok());
     let too_many = Settings {
-        shaped_gathers: radiosity::pipeline::MAX_SHAPED_GATHERS + 1,
+        shaped_gathers: Some(radiosity::pipeline::MAX_SHAPED_GATHERS + 1),
         ..Settings::default()
     };
     let message = too_many.validate().unwrap_err().to_string();
@@ -158,14 +161,14 @@ fn more_shaped_gathers_than_the_limit_are_refused_naming_the_setting() {
 #[test]
 fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
     let progressive = Settings {
-        shaped_gathers: 2,
+        shaped_gathers: Some(2),
         solver_kind: radiosity::solve::SolverKind::Progressive,
         ..Settings::default()
     };
     let message = progressive.validate().unwrap_err().to_string();
     assert!(message.contains("shaped-gathers"), "{message}");
     let bounces = Settings {
-        shaped_gathers: 2,
+        shaped_gathers: Some(2),
         bounces: Some(2),
         ..Settings::default()
     };

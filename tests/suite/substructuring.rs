@@ -22,7 +22,7 @@ fn patch_radiosity_is_the_area_mean_of_its_elements() {
     for shaped_gathers in [0, 2] {
         let s = Settings {
             patch_size: Some(0.34),
-            shaped_gathers,
+            shaped_gathers: Some(shaped_gathers),
             refine: RefineSettings {
                 tolerance: 0.01,
                 ..RefineSettings::default()
