@@ -193,13 +193,14 @@ fn per_object_error_against_the_path_tracer_falls_as_patches_shrink() {
         errors.push((mean, worst));
     }
     // Each level closer than the one before, in the mean and the worst
-    // object (measured: 2.2%, 1.0%, 0.36% mean; 10%, 5.3%, 2.2% worst).
+    // object (measured with the default shaped gather: 0.94%, 0.52%, 0.20%
+    // mean; 5.5%, 3.1%, 1.2% worst, the torus each time. With patch means
+    // it was 2.2%, 1.0%, 0.36% and 10%, 5.3%, 2.2%).
     for k in 1..errors.len() {
         assert!(errors[k].0 < errors[k - 1].0, "mean: {errors:?}");
         assert!(errors[k].1 < errors[k - 1].1, "worst: {errors:?}");
     }
-    // The finest within the 0.5% mean. Its 1.5% worst is not met
-    // yet: the torus stays the worst object, too bright, for a cause not
-    // found so far.
+    // The finest within the 0.5% mean and 1.5% worst.
     assert!(errors[2].0 < 0.005, "{errors:?}");
+    assert!(errors[2].1 < 0.015, "{errors:?}");
 }
