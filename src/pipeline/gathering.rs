@@ -20,13 +20,13 @@ use crate::solve::{scene_is_closed, weight, Radiosity};
 use std::time::Instant;
 
 /// Most corrections of the patch radiosities after a shaped gather (see
-/// `Gathering::shaped_gather`); each shrinks the change by about the shapes'
-/// effect on the patch system, so one or two reach the solver's tolerance.
+/// `Gathering::shaped_gather`). Measured: the Cornell box settles after one,
+/// the atriums after two; the Ferren sculpture uses all three.
 const LEVEL_CORRECTIONS: usize = 3;
 
-/// The corrections after a shaped gather stop when no patch's mean moves
-/// from what the system gives it by more than this fraction of the largest
-/// patch radiosity.
+/// The corrections after a shaped gather stop when what the shapes change
+/// in any patch's mean moves, from one correction to the next, by no more
+/// than this fraction of the largest patch radiosity.
 const LEVEL_TOLERANCE: f64 = 1e-4;
 
 /// Per patch, the mean of `radiosity` over its leaves weighted as its row
@@ -269,7 +269,7 @@ impl Gathering {
         };
         let mut corrections = 0;
         let mut last: Option<Vec<Rgb>> = None;
-        for _ in 0..=LEVEL_CORRECTIONS {
+        while corrections < LEVEL_CORRECTIONS {
             let mut plain = ws.radiosity.clone();
             gather_with(
                 &ws.mesh,
@@ -289,7 +289,7 @@ impl Gathering {
                     .map(|(c, l)| (*c - *l).abs().max_band())
                     .fold(0.0, f64::max)
             });
-            if moved <= LEVEL_TOLERANCE * largest || corrections == LEVEL_CORRECTIONS {
+            if moved <= LEVEL_TOLERANCE * largest {
                 break;
             }
             let source: Vec<Rgb> = self
