@@ -112,6 +112,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             uniform_depth: a.uniform_depth,
             initial_depth: a.initial_depth,
             tolerance: a.refine_tolerance,
+            dim_floor: a.dim_floor,
             max_depth: a.max_depth,
             min_element_area: a.min_element_area,
             max_elements: a.max_elements.unwrap_or(usize::MAX),

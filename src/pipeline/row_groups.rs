@@ -24,6 +24,7 @@
 use super::Settings;
 use crate::formfactor::FormFactors;
 use crate::mesh::{ElementKey, Mesh};
+use crate::refine::{Contrast, RefineSettings};
 use crate::solve::Radiosity;
 use glam::DVec3;
 use slotmap::SecondaryMap;
@@ -198,26 +199,22 @@ impl RowGroups {
 
     /// Splits every group whose radiosity differs from a neighbouring group
     /// of its cluster (centres within two of the larger cells) by more than
-    /// `tolerance` times the brightest reflected radiosity, in any band.
+    /// the refinement tolerance, measured as the criterion measures it
+    /// ([`Contrast`]).
     /// Returns the members that now need rows of their own or from a new
     /// lead (the old leads keep theirs), in a deterministic order.
     pub(crate) fn unshare(
         &mut self,
         mesh: &Mesh,
         radiosity: &Radiosity,
-        tolerance: f64,
+        refine: &RefineSettings,
     ) -> Vec<ElementKey> {
         if self.groups.is_empty() {
             return Vec::new();
         }
-        let reference = mesh
-            .leaves()
-            .iter()
-            .map(|&k| (radiosity.element(k) - mesh.elements[k].emission).max_band())
-            .fold(0.0, f64::max);
-        if reference <= 0.0 {
+        let Some(contrast) = Contrast::of_scene(mesh, radiosity, refine.dim_floor) else {
             return Vec::new();
-        }
+        };
         let mut ending = vec![false; self.groups.len()];
         for groups in self.of_patch.values() {
             for (i, &a) in groups.iter().enumerate() {
@@ -227,10 +224,7 @@ impl RowGroups {
                     if (ga.centre - gb.centre).length_squared() > reach * reach {
                         continue;
                     }
-                    let d = (radiosity.element(ga.lead) - radiosity.element(gb.lead))
-                        .abs()
-                        .max_band();
-                    if d > tolerance * reference {
+                    if contrast.between(mesh, radiosity, ga.lead, gb.lead) > refine.tolerance {
                         ending[a as usize] = true;
                         ending[b as usize] = true;
                     }
@@ -424,14 +418,16 @@ mod tests {
         for k in mesh.leaves() {
             radiosity.set_element(k, Rgb::splat(1.0));
         }
-        assert!(groups.unshare(&mesh, &radiosity, 0.05).is_empty());
+        assert!(groups
+            .unshare(&mesh, &radiosity, &RefineSettings::default())
+            .is_empty());
         // One group's lead 10% darker: it and its neighbours within reach
         // are split; their members other than the leads need new rows.
         let before = groups.len();
         let g = before / 2;
         let lead = groups.groups[g].lead;
         radiosity.set_element(lead, Rgb::splat(0.9));
-        let fresh = groups.unshare(&mesh, &radiosity, 0.05);
+        let fresh = groups.unshare(&mesh, &radiosity, &RefineSettings::default());
         assert!(!groups.groups[g].shared);
         let ended: Vec<&Group> = groups.groups[..before]
             .iter()
@@ -478,7 +474,7 @@ mod tests {
         // that has a neighbour, and that ends.
         let mut rounds = 0;
         loop {
-            let more = groups.unshare(&mesh, &radiosity, 0.05);
+            let more = groups.unshare(&mesh, &radiosity, &RefineSettings::default());
             if more.is_empty() {
                 break;
             }
@@ -487,7 +483,9 @@ mod tests {
         }
         // Groups that were split are no longer checked: no new look finds
         // anything.
-        assert!(groups.unshare(&mesh, &radiosity, 0.05).is_empty());
+        assert!(groups
+            .unshare(&mesh, &radiosity, &RefineSettings::default())
+            .is_empty());
     }
 
     #[test]

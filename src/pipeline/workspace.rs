@@ -11,7 +11,7 @@ use super::{Progress, Settings, SolveStats, Stage};
 use crate::error::{Error, Result};
 use crate::formfactor::{compute_rows_with, FormFactors, Sources};
 use crate::mesh::{ElementKey, Mesh};
-use crate::refine::{mark_for_split, Marks};
+use crate::refine::{mark_for_split, Marks, SplitLimits};
 use crate::scene::{check_coplanar_overlaps, Scene};
 use crate::solution::Solution;
 use crate::solve::{DirectLight, GatherTotals, PatchSystem, Radiosity, SolveReport};
@@ -237,14 +237,14 @@ impl<'a> Workspace<'a> {
             .max_elements
             .saturating_sub(self.mesh.leaf_count())
             .min(self.leaves_that_fit());
-        let marks = mark_for_split(
-            &self.mesh,
-            &self.radiosity,
-            refine.tolerance,
-            refine.max_depth,
-            self.min_area,
+        let limits = SplitLimits {
+            tolerance: refine.tolerance,
+            floor: refine.dim_floor,
+            max_depth: refine.max_depth,
+            min_area: self.min_area,
             room,
-        );
+        };
+        let marks = mark_for_split(&self.mesh, &self.radiosity, limits);
         self.stats.final_max_difference = marks.max_difference;
         if marks.over_budget > 0 && !self.stats.warnings.iter().any(|w| w.starts_with(BUDGET)) {
             self.stats.warnings.push(format!(
@@ -272,9 +272,9 @@ impl<'a> Workspace<'a> {
     /// by more than the refinement tolerance; returns the members that need
     /// rows of their own, their old copies forgotten.
     pub(super) fn unshare_groups(&mut self) -> Vec<ElementKey> {
-        let fresh =
-            self.row_groups
-                .unshare(&self.mesh, &self.radiosity, self.settings.refine.tolerance);
+        let fresh = self
+            .row_groups
+            .unshare(&self.mesh, &self.radiosity, &self.settings.refine);
         for &k in &fresh {
             self.form_factors.forget(k);
         }

@@ -1,5 +1,6 @@
 //! The subdivision criterion: radiosity differences between edge neighbours.
 
+use super::Contrast;
 use crate::mesh::{ElementKey, Mesh};
 use crate::solve::Radiosity;
 
@@ -8,7 +9,8 @@ use crate::solve::Radiosity;
 pub(crate) struct Marks {
     /// Leaves to split, in a deterministic order.
     pub split: Vec<ElementKey>,
-    /// The largest neighbour difference found, relative to the reference.
+    /// The largest neighbour difference found, relative to its scale
+    /// (see [`Contrast`]).
     pub max_difference: f64,
     /// Leaves that exceed the tolerance but may not split (depth, size, budget).
     pub blocked: usize,
@@ -16,42 +18,49 @@ pub(crate) struct Marks {
     pub over_budget: usize,
 }
 
+/// Where to split and how much room there is.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SplitLimits {
+    /// Split where neighbours differ by more than this fraction (see [`Contrast`]).
+    pub tolerance: f64,
+    /// The local scale's floor, as a fraction of the brightest reflected radiosity.
+    pub floor: f64,
+    /// Leaves at this depth do not split.
+    pub max_depth: u8,
+    /// Children smaller than this (square metres) are not made.
+    pub min_area: f64,
+    /// Most new leaves.
+    pub room: usize,
+}
+
 /// Marks leaves whose radiosity differs from an edge neighbour's by more than
-/// `tolerance` times the brightest reflected radiosity (any band). Both sides of
-/// such an edge are marked, if they may split: depth below `max_depth`, children
-/// no smaller than `min_area`, and the largest differences first until the
-/// budget of `room` new leaves is used up.
+/// the tolerance, measured by [`Contrast`]. Both sides of such an edge are
+/// marked, if they may split: depth below the limit, children no smaller than
+/// the least area, and the largest differences first until the budget of new
+/// leaves is used up.
 #[must_use]
-pub(crate) fn mark_for_split(
-    mesh: &Mesh,
-    radiosity: &Radiosity,
-    tolerance: f64,
-    max_depth: u8,
-    min_area: f64,
-    room: usize,
-) -> Marks {
+pub(crate) fn mark_for_split(mesh: &Mesh, radiosity: &Radiosity, limits: SplitLimits) -> Marks {
+    let SplitLimits {
+        tolerance,
+        floor,
+        max_depth,
+        min_area,
+        room,
+    } = limits;
     let leaves = mesh.leaves();
-    let reference = leaves
-        .iter()
-        .map(|&k| {
-            let e = &mesh.elements[k];
-            (radiosity.element(k) - e.emission).max_band()
-        })
-        .fold(0.0, f64::max);
     let mut marks = Marks::default();
-    if reference <= 0.0 {
+    let Some(contrast) = Contrast::of_scene(mesh, radiosity, floor) else {
         return marks;
-    }
+    };
     let order: std::collections::HashMap<ElementKey, usize> =
         leaves.iter().enumerate().map(|(i, k)| (*k, i)).collect();
     let mut worst: Vec<f64> = vec![0.0; leaves.len()];
     for (i, &k) in leaves.iter().enumerate() {
-        let value = radiosity.element(k);
         for n in mesh.edge_neighbours(k).into_iter().flatten() {
             if !mesh.elements[n].is_leaf() {
                 continue;
             }
-            let d = (value - radiosity.element(n)).abs().max_band() / reference;
+            let d = contrast.between(mesh, radiosity, k, n);
             worst[i] = worst[i].max(d);
             if let Some(&j) = order.get(&n) {
                 worst[j] = worst[j].max(d);

@@ -1,10 +1,12 @@
 //! Adaptive subdivision: where neighbouring elements differ by more than a
 //! tolerance, split them, keeping the quadtree balanced.
 
+mod contrast;
 mod criterion;
 mod sources;
 
-pub(crate) use criterion::{mark_for_split, Marks};
+pub(crate) use contrast::Contrast;
+pub(crate) use criterion::{mark_for_split, Marks, SplitLimits};
 pub(crate) use sources::mark_sources;
 
 use crate::error::{Error, Result};
@@ -19,8 +21,15 @@ pub struct RefineSettings {
     /// face clusters stay whole, their surfaces being their elements.
     pub initial_depth: u8,
     /// Split when neighbouring radiosities differ by more than this fraction of
-    /// the scene's brightest reflected radiosity, in any band.
+    /// the brighter neighbour's reflected radiosity, or of `dim_floor` times
+    /// the scene's brightest where that is more, in any band.
     pub tolerance: f64,
+    /// The least scale a difference is measured against, as a fraction of the
+    /// scene's brightest reflected radiosity, in (0, 1]. At 1 (the default)
+    /// every difference is measured against the brightest; lower values
+    /// refine dim regions as finely as bright ones, down to that fraction,
+    /// for many more elements.
+    pub dim_floor: f64,
     /// Deepest element below a patch.
     pub max_depth: u8,
     /// Smallest element area (square metres); `None` derives it from the scene.
@@ -47,6 +56,7 @@ impl Default for RefineSettings {
             uniform_depth: None,
             initial_depth: 1,
             tolerance: 0.05,
+            dim_floor: DEFAULT_DIM_FLOOR,
             max_depth: 4,
             min_element_area: None,
             max_elements: usize::MAX,
@@ -60,6 +70,9 @@ impl Default for RefineSettings {
     }
 }
 
+/// The default [`RefineSettings::dim_floor`].
+pub const DEFAULT_DIM_FLOOR: f64 = 1.0;
+
 impl RefineSettings {
     /// Checks ranges; the error names the setting.
     pub fn validate(&self) -> Result<()> {
@@ -68,6 +81,12 @@ impl RefineSettings {
             return bad(
                 "refine-tolerance",
                 format!("must be positive, got {}", self.tolerance),
+            );
+        }
+        if !(self.dim_floor > 0.0 && self.dim_floor <= 1.0) {
+            return bad(
+                "dim-floor",
+                format!("must be in (0, 1], got {}", self.dim_floor),
             );
         }
         let deepest = self

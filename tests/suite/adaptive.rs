@@ -180,3 +180,120 @@ fn element_mean_emitters_match_the_exact_penumbra() {
     let (_, error) = floor_error(&spec, &settings);
     assert!(error < 1e-5, "mean floor error {error:.3e}");
 }
+
+/// A lamp facing up and a grey ceiling tile facing down 2 m above it, far to
+/// the side of and below the penumbra scene's floor: the two light only each
+/// other, and the tile is `brighter` times as bright as the penumbra floor's
+/// light-on value, roughly (the lamp's radiance is scaled by it).
+fn penumbra_beside_a_bright_tile(spec: &PenumbraSpec, brighter: f64) -> radiosity::scene::Scene {
+    use radiosity::math::Rgb;
+    use radiosity::scene::SceneBuilder;
+    let mut b = SceneBuilder::new("penumbra_beside_a_bright_tile");
+    let light = b.material("light", Rgb::ZERO, spec.light_radiance).unwrap();
+    let black = b.material("occluder", Rgb::ZERO, Rgb::ZERO).unwrap();
+    let floor = b
+        .material("floor", spec.floor_reflectance, Rgb::ZERO)
+        .unwrap();
+    b.object("light");
+    b.polygon(light, &spec.light).unwrap();
+    b.object("occluder");
+    b.polygon(black, &spec.occluders[0]).unwrap();
+    b.object("floor");
+    b.polygon(floor, &spec.floor).unwrap();
+    // The tile's middle, 2 m above a 1 m lamp, sees it with a form factor of
+    // about 1 / (4 pi): its radiosity is about 0.8 * pi * radiance / (4 pi).
+    let light_on = super::penumbra_metrics::light_on_value(spec);
+    let radiance = Rgb::splat(brighter * light_on / 0.2);
+    let lamp = b.material("far lamp", Rgb::ZERO, radiance).unwrap();
+    let grey = b.material("far tile", Rgb::splat(0.8), Rgb::ZERO).unwrap();
+    let square = |x0: f64, y: f64, half: f64, up: bool| {
+        let (x1, z0, z1) = (x0 + 2.0 * half, -half, half);
+        let mut p = vec![
+            DVec3::new(x0, y, z0),
+            DVec3::new(x0, y, z1),
+            DVec3::new(x1, y, z1),
+            DVec3::new(x1, y, z0),
+        ];
+        if !up {
+            p.reverse();
+        }
+        p
+    };
+    b.object("far lamp");
+    b.polygon(lamp, &square(99.5, -20.0, 0.5, true)).unwrap();
+    b.object("far tile");
+    b.polygon(grey, &square(99.0, -18.0, 1.0, false)).unwrap();
+    b.build().unwrap()
+}
+
+/// With a dim floor below 1, refinement measures a difference against the
+/// brighter neighbour, not the scene's brightest surface: beside an unrelated
+/// tile five times as bright, a penumbra with a floor of 0.2 is refined as it
+/// is alone at the default floor (1, where it is the brightest surface). At
+/// the default floor the same penumbra beside the tile gets coarser elements
+/// and a larger error: what leaves the contact shadows of dim corridors
+/// whole in large interiors.
+#[test]
+fn a_dim_floor_refines_a_dim_shadow_as_one_in_full_light() {
+    let spec = radiosity::scenes::penumbra::penumbra_narrow();
+    let alone = super::penumbra_metrics::measure(&spec, &Settings::default());
+    let scene = penumbra_beside_a_bright_tile(&spec, 5.0);
+    let mut local = Settings::default();
+    local.refine.dim_floor = 0.2;
+    let beside = super::penumbra_metrics::measure_scene(&spec, &scene, &local);
+    let beside_global = super::penumbra_metrics::measure_scene(&spec, &scene, &Settings::default());
+    // The tile is as bright as intended.
+    let sol = &beside.solution;
+    let tile = sol
+        .mesh()
+        .surfaces()
+        .iter()
+        .position(|s| scene.objects[s.object as usize].name == "far tile")
+        .unwrap();
+    let tile_value = sol
+        .leaves()
+        .into_iter()
+        .filter(|e| e.surface as usize == tile)
+        .map(|e| e.radiosity[0])
+        .fold(0.0, f64::max);
+    let ratio = tile_value / alone.light_on;
+    eprintln!(
+        "tile {ratio:.2}x; floor leaves alone {} beside (floor 0.2) {} beside (floor 1) {}; \
+         mean error {:.3e} {:.3e} {:.3e}",
+        alone.floor.len(),
+        beside.floor.len(),
+        beside_global.floor.len(),
+        alone.mean,
+        beside.mean,
+        beside_global.mean
+    );
+    assert!((3.0..8.0).contains(&ratio), "tile {ratio}x the floor");
+    assert!(
+        beside.mean <= 1.1 * alone.mean,
+        "beside a bright tile {:.3e}, alone {:.3e}",
+        beside.mean,
+        alone.mean
+    );
+    assert!(
+        beside_global.mean > 1.5 * alone.mean,
+        "the scene-wide scale's {:.3e} against {:.3e}: the test would not see it",
+        beside_global.mean,
+        alone.mean
+    );
+}
+
+/// A dim floor outside (0, 1] is refused before any form factor, naming the
+/// setting: 0 would divide by nothing in black regions, and above 1 it would
+/// only loosen the tolerance.
+#[test]
+fn a_dim_floor_out_of_range_is_refused_naming_the_setting() {
+    for bad in [0.0, -0.1, 1.5, f64::NAN] {
+        let mut settings = Settings::default();
+        settings.refine.dim_floor = bad;
+        let message = settings.validate().unwrap_err().to_string();
+        assert!(message.contains("dim-floor"), "{bad}: {message}");
+    }
+    let mut fine = Settings::default();
+    fine.refine.dim_floor = 0.1;
+    assert!(fine.validate().is_ok());
+}

@@ -20,6 +20,7 @@
 use glam::DVec3;
 use radiosity::math::polygon_centroid;
 use radiosity::mesh::ElementKey;
+use radiosity::scene::Scene;
 use radiosity::scenes::penumbra::PenumbraSpec;
 use radiosity::{Settings, Solution};
 use rayon::prelude::*;
@@ -75,9 +76,15 @@ pub fn light_on_value(spec: &PenumbraSpec) -> f64 {
 
 /// Solves `spec`'s scene with `settings` and measures the floor's errors.
 pub fn measure(spec: &PenumbraSpec, settings: &Settings) -> FloorErrors {
-    let scene = spec.scene().unwrap();
+    measure_scene(spec, &spec.scene().unwrap(), settings)
+}
+
+/// Solves `scene`, which holds `spec`'s objects and perhaps others that do
+/// not light its floor, and measures the floor's errors against `spec`'s
+/// oracle.
+pub fn measure_scene(spec: &PenumbraSpec, scene: &Scene, settings: &Settings) -> FloorErrors {
     let started = Instant::now();
-    let solution = radiosity::solve(&scene, settings, &|_| {}).unwrap();
+    let solution = radiosity::solve(scene, settings, &|_| {}).unwrap();
     let solve_seconds = started.elapsed().as_secs_f64();
     let floor_object = scene
         .objects
