@@ -259,7 +259,8 @@ pub struct SolveSettingsArgs {
     /// reflected radiosity, but at least this fraction of the scene's
     /// brightest: 1 measures all against the brightest; 0.1 also refines the
     /// contact shadows of dim corridors, for about twice the time on an
-    /// interior lit through an opening.
+    /// interior lit through an opening and several times more in a room lit
+    /// from inside.
     #[arg(long = "dim-floor", default_value_t = radiosity::refine::DEFAULT_DIM_FLOOR)]
     pub dim_floor: f64,
     /// Deepest element level below a patch.
