@@ -18,7 +18,7 @@ pub use cell::{Cell, MAX_DEPTH};
 pub use element::{Element, ElementKey, Patch};
 pub(crate) use lattice::PatchGrid;
 pub use lattice::SurfaceLattice;
-pub use shading::{ShadingMesh, VertexRadiosity};
+pub use shading::{ShadingMesh, VertexRadiosity, HIDDEN_WEIGHT};
 pub use texels::{ShadingTexels, TexelSurface};
 
 use crate::error::{Error, Result};

@@ -13,6 +13,12 @@ use crate::math::Rgb;
 use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 
+/// The weight per unit area of a leaf that cannot be seen at all, in a
+/// vertex's mean (see [`Mesh::vertex_radiosity_seen`]): next to nothing, so
+/// that a vertex with nothing visible around it still has a value, its
+/// leaves'.
+pub const HIDDEN_WEIGHT: f64 = 1e-9;
+
 /// A lattice vertex: surface and lattice coordinates.
 pub(super) type VertexId = (u32, u32, u32);
 
@@ -68,15 +74,31 @@ impl Mesh {
     /// gives (see the module docs).
     #[must_use]
     pub fn vertex_radiosity(&self, leaf: impl Fn(ElementKey) -> Rgb) -> VertexRadiosity {
+        self.vertex_radiosity_seen(|k| (leaf(k), 1.0))
+    }
+
+    /// Vertex radiosities where `leaf` gives each leaf's value and the share
+    /// of its area that can be seen (1 for most; less where another object
+    /// stands on it, 0 under it). A vertex takes the mean of the leaves
+    /// around it weighted by their seen areas, so that the covered part of
+    /// a leaf does not darken the visible part of its neighbours (a leaf
+    /// that cannot be seen at all counts next to nothing, so that a vertex
+    /// with nothing visible around it keeps its leaves' value).
+    #[must_use]
+    pub fn vertex_radiosity_seen(
+        &self,
+        leaf: impl Fn(ElementKey) -> (Rgb, f64),
+    ) -> VertexRadiosity {
         let mut sums: HashMap<VertexId, (Rgb, f64)> = HashMap::new();
         let leaves = self.leaves();
         for &k in &leaves {
             let e = &self.elements[k];
-            let value = leaf(k);
+            let (value, share) = leaf(k);
+            let weight = e.area * share.max(HIDDEN_WEIGHT);
             for c in e.cell.corners() {
                 let s = sums.entry((e.surface, c.0, c.1)).or_default();
-                s.0 += value * e.area;
-                s.1 += e.area;
+                s.0 += value * weight;
+                s.1 += weight;
             }
         }
         let values: HashMap<VertexId, Rgb> = sums

@@ -18,6 +18,7 @@
 //! 0), so the drawn value is the emission alone, as the solve has it.
 
 use super::shading::VertexId;
+use super::HIDDEN_WEIGHT;
 use super::{ElementKey, Mesh, VertexRadiosity};
 use crate::math::Rgb;
 use crate::scene::Material;
@@ -76,7 +77,7 @@ impl Mesh {
     pub fn vertex_irradiance(
         &self,
         textured: impl Fn(u32) -> bool,
-        leaf: impl Fn(ElementKey) -> Rgb,
+        leaf: impl Fn(ElementKey) -> (Rgb, f64),
     ) -> VertexRadiosity {
         let leaves: Vec<ElementKey> = self
             .leaves()
@@ -86,13 +87,17 @@ impl Mesh {
         let mut sums: HashMap<VertexId, ([f64; 3], [f64; 3])> = HashMap::new();
         for &k in &leaves {
             let e = &self.elements[k];
-            let (h, known) = element_irradiance(leaf(k), e.emission, e.reflectance);
+            let (value, share) = leaf(k);
+            let (h, known) = element_irradiance(value, e.emission, e.reflectance);
+            // A leaf weighs by its visible area (see
+            // `Mesh::vertex_radiosity_seen`).
+            let weight = e.area * share.max(HIDDEN_WEIGHT);
             for c in e.cell.corners() {
                 let s = sums.entry((e.surface, c.0, c.1)).or_default();
                 for band in 0..3 {
                     if known[band] {
-                        s.0[band] += h[band] * e.area;
-                        s.1[band] += e.area;
+                        s.0[band] += h[band] * weight;
+                        s.1[band] += weight;
                     }
                 }
             }

@@ -109,7 +109,7 @@ impl Reference {
     /// punctual light a shadow ray reaches: a delta light has a single
     /// direction, so this next-event estimate is exact, and no cosine
     /// direction can hit the light (nothing to combine with MIS).
-    fn punctual_term(&self, surface: u32, origin: DVec3, normal: DVec3) -> Rgb {
+    pub(super) fn punctual_term(&self, surface: u32, origin: DVec3, normal: DVec3) -> Rgb {
         let mut sum = Rgb::ZERO;
         for light in &self.lights {
             let Some(incident) = light.incident(origin) else {

@@ -107,6 +107,7 @@
 mod accel;
 mod emitters;
 mod estimator;
+mod gather;
 mod geometry;
 mod points;
 mod probes;
@@ -117,6 +118,7 @@ mod stats;
 mod surface_means;
 mod textures;
 
+pub use gather::GatherEstimate;
 pub use points::{sample_points, SurfacePoint, LOCATE_TOLERANCE};
 pub use settings::ReferenceSettings;
 pub use stats::ProbeEstimate;

@@ -4,6 +4,7 @@ use super::rng::{Domain, Rng};
 use super::stats::{ProbeEstimate, RunningStats};
 use super::{Reference, ReferenceSettings, SurfacePoint, CHUNK_PATHS};
 use crate::error::{Error, Result};
+use glam::DVec3;
 use rayon::prelude::*;
 
 impl Reference {
@@ -23,23 +24,7 @@ impl Reference {
         settings: &ReferenceSettings,
     ) -> Result<Vec<ProbeEstimate>> {
         settings.validate()?;
-        let mut starts = Vec::with_capacity(points.len());
-        for (i, p) in points.iter().enumerate() {
-            let Some(g) = self.geometry.get(p.surface as usize) else {
-                return Err(Error::Geometry(format!(
-                    "probe point {i} refers to surface {}, but the scene has {}",
-                    p.surface,
-                    self.geometry.len()
-                )));
-            };
-            if !p.position.is_finite() {
-                return Err(Error::Geometry(format!(
-                    "probe point {i} has a non-finite position {}",
-                    p.position
-                )));
-            }
-            starts.push((p.surface, g.project(p.position).1));
-        }
+        let starts = self.starts(points, "probe")?;
         let chunks = settings.paths.div_ceil(CHUNK_PATHS);
         let work: Vec<(usize, u64)> = (0..starts.len())
             .flat_map(|i| (0..chunks).map(move |c| (i, c)))
@@ -68,5 +53,31 @@ impl Reference {
                 total.estimate()
             })
             .collect())
+    }
+}
+
+impl Reference {
+    /// Each point's surface and its position projected onto that surface's
+    /// plane. Fails, naming the `kind` of point and its index, on a surface
+    /// out of range or a position that is not finite.
+    pub(super) fn starts(&self, points: &[SurfacePoint], kind: &str) -> Result<Vec<(u32, DVec3)>> {
+        let mut starts = Vec::with_capacity(points.len());
+        for (i, p) in points.iter().enumerate() {
+            let Some(g) = self.geometry.get(p.surface as usize) else {
+                return Err(Error::Geometry(format!(
+                    "{kind} point {i} refers to surface {}, but the scene has {}",
+                    p.surface,
+                    self.geometry.len()
+                )));
+            };
+            if !p.position.is_finite() {
+                return Err(Error::Geometry(format!(
+                    "{kind} point {i} has a non-finite position {}",
+                    p.position
+                )));
+            }
+            starts.push((p.surface, g.project(p.position).1));
+        }
+        Ok(starts)
     }
 }

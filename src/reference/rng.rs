@@ -20,6 +20,8 @@ pub(crate) enum Domain {
     ObjectMean = 2,
     /// Stratified surface points: indices (0, point).
     SamplePoints = 3,
+    /// Directions of a one-bounce gather: indices (point, ray).
+    Gather = 4,
 }
 
 /// The 64-bit finaliser of SplitMix64 (Steele, Lea, Flood 2014): a bijection

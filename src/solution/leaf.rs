@@ -34,6 +34,33 @@ impl Leaf<'_> {
         self.radiosity / PI
     }
 
+    /// The share of its area that can be seen: 1 for most leaves, less for
+    /// one that another object stands on in part (its row says how much is
+    /// covered), 0 for one shut in under an object.
+    #[must_use]
+    pub fn visible(&self) -> f64 {
+        match self.row {
+            RowState::ShutIn(_) => 0.0,
+            other => other.view().map_or(1.0, |v| v.visible()),
+        }
+    }
+
+    /// The radiosity of its visible part. [`Leaf::radiosity`] is the mean
+    /// over its whole area, which counts a covered part as dark: a wall
+    /// element half hidden behind a pier shows half its light there. Its
+    /// reflected light came from its visible part alone, so that part's
+    /// radiosity is `E + (B - E) / visible`. The same as `radiosity` for a
+    /// leaf wholly visible or wholly hidden.
+    #[must_use]
+    pub fn visible_radiosity(&self) -> Rgb {
+        let visible = self.visible();
+        if visible <= 0.0 || visible >= 1.0 {
+            return self.radiosity;
+        }
+        let emission = self.element.emission;
+        emission + (self.radiosity - emission) * (1.0 / visible)
+    }
+
     /// Its row's `(patch, form factor)` entries (none unless its row is
     /// held: see [`RowState`]).
     #[must_use]

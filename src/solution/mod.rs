@@ -14,7 +14,7 @@ pub(crate) use texels::texel_surfaces;
 
 use crate::formfactor::FormFactors;
 use crate::math::Rgb;
-use crate::mesh::{ElementKey, Mesh, ShadingMesh, TexelSurface};
+use crate::mesh::{ElementKey, Mesh, ShadingMesh, TexelSurface, VertexRadiosity};
 use crate::pipeline::SolveStats;
 use crate::render::ShadedMesh;
 use crate::scene::Scene;
@@ -108,16 +108,30 @@ impl Solution {
     /// detail under smooth light.
     #[must_use]
     pub fn shading_mesh(&self) -> ShadingMesh {
-        let vr = self.mesh.vertex_radiosity(|k| self.radiosity.element(k));
+        let vr = self.vertex_radiosity();
         if self.texel_surfaces.iter().all(Option::is_none) {
             return self.mesh.shading_mesh(&vr);
         }
         let light = self.mesh.vertex_irradiance(
             |s| self.texel_surfaces[s as usize].is_some(),
-            |k| self.radiosity.element(k),
+            |k| {
+                let leaf = self.leaf(k);
+                (leaf.visible_radiosity(), leaf.visible())
+            },
         );
         self.mesh
             .textured_shading_mesh(&vr, &light, &self.texel_surfaces)
+    }
+
+    /// The radiosity at the leaves' vertices that pictures and probes show:
+    /// each leaf's visible part's radiosity ([`Leaf::visible_radiosity`]),
+    /// weighted by its visible area (see [`Mesh::vertex_radiosity_seen`]).
+    #[must_use]
+    pub fn vertex_radiosity(&self) -> VertexRadiosity {
+        self.mesh.vertex_radiosity_seen(|k| {
+            let leaf = self.leaf(k);
+            (leaf.visible_radiosity(), leaf.visible())
+        })
     }
 
     /// The display mesh with the radiance a camera sees at each vertex

@@ -14,7 +14,6 @@ use super::Solution;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh, Probe, SurfaceLattice, VertexRadiosity, MAX_DEPTH};
-use crate::solve::Radiosity;
 use glam::DVec3;
 use smallvec::SmallVec;
 
@@ -88,13 +87,13 @@ impl Solution {
     /// A prober with the default [`ProbeTolerance`].
     #[must_use]
     pub fn probe(&self) -> SolutionProbe<'_> {
-        SolutionProbe::build(&self.mesh, &self.radiosity, ProbeTolerance::default())
+        SolutionProbe::build(self, ProbeTolerance::default())
     }
 
     /// A prober with the given tolerances. Fails if they are out of range.
     pub fn probe_with(&self, tolerance: ProbeTolerance) -> Result<SolutionProbe<'_>> {
         tolerance.validate()?;
-        Ok(SolutionProbe::build(&self.mesh, &self.radiosity, tolerance))
+        Ok(SolutionProbe::build(self, tolerance))
     }
 
     /// The radiosity at `point` on the surface facing `normal`, interpolated
@@ -108,7 +107,8 @@ impl Solution {
 }
 
 impl<'a> SolutionProbe<'a> {
-    fn build(mesh: &'a Mesh, radiosity: &Radiosity, tolerance: ProbeTolerance) -> Self {
+    fn build(solution: &'a Solution, tolerance: ProbeTolerance) -> Self {
+        let mesh = &solution.mesh;
         let (lo, hi) = mesh
             .surfaces
             .iter()
@@ -123,7 +123,7 @@ impl<'a> SolutionProbe<'a> {
         };
         SolutionProbe {
             mesh,
-            vertices: mesh.vertex_radiosity(|k| radiosity.element(k)),
+            vertices: solution.vertex_radiosity(),
             distance: tolerance.relative_distance * diagonal,
             min_cosine: tolerance.normal_degrees.to_radians().cos(),
         }
@@ -164,7 +164,23 @@ impl<'a> SolutionProbe<'a> {
             }
         }
         let (_, surface, on_plane) = best?;
-        let lattice = &self.mesh.surfaces[surface as usize];
+        self.hit_on(surface, on_plane)
+    }
+
+    /// Where a point already known to lie on surface `surface` (an index into
+    /// `Scene::surfaces`) lands and what it reads; the point is moved onto
+    /// the surface's plane. Unlike [`SolutionProbe::hit`] it does not search
+    /// the surfaces, so it suits many queries (a ray caster's hits). `None`
+    /// when the surface does not exist, the point is not finite, or no
+    /// element of the surface holds it.
+    #[must_use]
+    pub fn hit_on(&self, surface: u32, point: DVec3) -> Option<ProbeHit> {
+        let lattice = self.mesh.surfaces.get(surface as usize)?;
+        if !point.is_finite() {
+            return None;
+        }
+        let height = lattice.normal.dot(point - lattice.vertices[0]);
+        let on_plane = point - lattice.normal * height;
         let element = self
             .mesh
             .locate(surface, lattice_probe(lattice, on_plane), MAX_DEPTH)?;

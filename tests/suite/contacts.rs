@@ -17,7 +17,7 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 }
 
 /// Adds quad `c` of `material`, wound to face along `outward`.
-fn face(b: &mut SceneBuilder, material: u32, c: [DVec3; 4], outward: DVec3) {
+pub(super) fn face(b: &mut SceneBuilder, material: u32, c: [DVec3; 4], outward: DVec3) {
     if (c[1] - c[0]).cross(c[3] - c[0]).dot(outward) > 0.0 {
         b.quad(material, c[0], c[1], c[2], c[3]).unwrap();
     } else {
@@ -199,4 +199,121 @@ fn a_plinth_top_under_a_column_keeps_the_light_of_its_visible_part() {
         let energy = sol.stats().energy.relative_difference;
         assert!(energy.abs() < 2e-3, "{kind:?}: energy {energy}");
     }
+}
+
+/// Points on the plinth's top beside the column, on leaves that the column
+/// covers in part: such a leaf's radiosity is the mean of its whole area,
+/// dark where covered. What pictures and probes show there must be the
+/// light of the visible part, as the path tracer finds it, not that diluted
+/// mean.
+#[test]
+fn a_partly_covered_element_shows_the_light_of_its_visible_part() {
+    let scene = plinth_room();
+    let settings = Settings {
+        patch_size: Some(1.0),
+        ..Settings::default()
+    };
+    let sol = radiosity::solve(&scene, &settings, &|_| {}).unwrap();
+    let top = scene
+        .objects
+        .iter()
+        .position(|o| o.name == "plinth_top")
+        .unwrap() as u32;
+    // The column's footprint on the plinth's top.
+    let (lo, hi) = (1.6 - 0.18, 1.6 + 0.18);
+    let outside =
+        |p: DVec3| p.x < lo - 1e-3 || p.x > hi + 1e-3 || p.z < lo - 1e-3 || p.z > hi + 1e-3;
+    // On each partly covered leaf of the top, a grid of points over its
+    // visible part.
+    let mut leaves = Vec::new();
+    for leaf in sol.leaves() {
+        let surface = leaf.surface;
+        if scene.surfaces[surface as usize].object != top || !(0.05..0.95).contains(&leaf.visible())
+        {
+            continue;
+        }
+        let corners = sol.mesh().surfaces()[surface as usize].polygon(&leaf.cell);
+        let mut spots = Vec::new();
+        for i in 0..6 {
+            for j in 0..6 {
+                let (s, t) = ((i as f64 + 0.5) / 6.0, (j as f64 + 0.5) / 6.0);
+                let p = corners[0]
+                    .lerp(corners[1], s)
+                    .lerp(corners[3].lerp(corners[2], s), t);
+                if outside(p) {
+                    spots.push(p);
+                }
+            }
+        }
+        leaves.push((leaf, spots));
+    }
+    assert!(
+        leaves.len() >= 8,
+        "only {} partly covered leaves",
+        leaves.len()
+    );
+    let step = leaves.len() / 8;
+    let leaves: Vec<_> = leaves.into_iter().step_by(step).take(8).collect();
+    let prober = sol.probe();
+    let reference = Reference::new(&scene).unwrap();
+    let band = 1;
+    let mut shown_close = 0;
+    for (leaf, spots) in &leaves {
+        let points: Vec<_> = spots
+            .iter()
+            .map(|p| reference.locate(*p, DVec3::Y).expect("on the plinth top"))
+            .collect();
+        let traced = reference
+            .radiosity_at(
+                &points,
+                &ReferenceSettings {
+                    paths: 4_000,
+                    seed: 3,
+                    ..ReferenceSettings::default()
+                },
+            )
+            .unwrap();
+        let n = spots.len() as f64;
+        let truth = traced.iter().map(|t| t.radiosity.0[band]).sum::<f64>() / n;
+        let sigma = traced
+            .iter()
+            .map(|t| t.std_error.0[band].powi(2))
+            .sum::<f64>()
+            .sqrt()
+            / n;
+        let shown = spots
+            .iter()
+            .map(|p| prober.hit(*p, DVec3::Y).expect("on the top").radiosity.0[band])
+            .sum::<f64>()
+            / n;
+        let visible = leaf.visible_radiosity().0[band];
+        let mean = leaf.radiosity.0[band];
+        eprintln!(
+            "leaf at {}: visible share {:.3}, traced {truth:.4} +- {sigma:.4}, visible part {visible:.4}, shown {shown:.4}, leaf mean {mean:.4}",
+            leaf.centroid,
+            leaf.visible()
+        );
+        // Measured: the visible parts within 11% (the row is taken at one
+        // visible point, beside a contact shadow), the whole-area means 4 to
+        // 5 times too dark.
+        let tolerance = 0.15 + 3.0 * sigma / truth;
+        assert!(
+            (visible / truth - 1.0).abs() < tolerance,
+            "visible part {visible} against traced {truth}"
+        );
+        assert!(mean < 0.5 * truth, "leaf mean {mean} not diluted");
+        // Shading interpolates between leaves across the contact shadow's
+        // steep edge: nearer the truth than the diluted mean always, within
+        // the tolerance on most leaves (measured: 7 of 8; the one off, +50%,
+        // is a leaf at the column's corner).
+        assert!(
+            (shown - truth).abs() < (mean - truth).abs(),
+            "shown {shown} against traced {truth}, leaf mean {mean}"
+        );
+        shown_close += usize::from((shown / truth - 1.0).abs() < tolerance);
+    }
+    assert!(
+        shown_close >= 6,
+        "shown within tolerance on {shown_close} of 8 leaves"
+    );
 }

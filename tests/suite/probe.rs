@@ -4,6 +4,7 @@
 use super::penumbra_metrics::light_on_value;
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::mesh::HIDDEN_WEIGHT;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::Scene;
 use radiosity::scenes::{self, penumbra};
@@ -60,7 +61,10 @@ fn solve(scene: &Scene, settings: &Settings) -> Solution {
     radiosity::solve(scene, settings, &|_| {}).unwrap()
 }
 
-/// One floor leaf of a solution: its corners (world) and its value.
+/// One floor leaf of a solution: its corners (world), its weight in the
+/// means at its vertices (its area where it can be seen, next to nothing
+/// where it cannot: the boxes stand on the floor) and the value it shows
+/// (its visible part's radiosity).
 struct Leaf {
     surface: u32,
     corners: Vec<DVec3>,
@@ -80,11 +84,12 @@ fn floor_leaves(scene: &Scene, sol: &Solution) -> Vec<Leaf> {
         .filter_map(|k| {
             let e = &sol.mesh()[k];
             let lattice = &sol.mesh().surfaces()[e.surface as usize];
+            let leaf = sol.leaf(k);
             (lattice.object == floor).then(|| Leaf {
                 surface: e.surface,
                 corners: lattice.polygon(&e.cell).to_vec(),
-                area: e.area,
-                value: sol.radiosity().element(k),
+                area: e.area * leaf.visible().max(HIDDEN_WEIGHT),
+                value: leaf.visible_radiosity(),
             })
         })
         .collect()
@@ -171,7 +176,7 @@ fn probes_read_the_shading_mesh_the_renderer_draws() {
     let spec = penumbra::penumbra_parallel();
     let scene = spec.scene().unwrap();
     let sol = solve(&scene, &penumbra_settings());
-    let vertices = sol.mesh().vertex_radiosity(|k| sol.radiosity().element(k));
+    let vertices = sol.vertex_radiosity();
     assert!(!vertices.t_vertices.is_empty(), "the test needs T-vertices");
     let shading = sol.shading_mesh();
     let prober = sol.probe();
