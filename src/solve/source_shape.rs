@@ -9,14 +9,20 @@
 //! detail does.
 //!
 //! That detail is known after a gather: the source patch's elements. So a
-//! receiver near such a patch weighs the patch's parts (its leaves, or a
-//! coarser cut of its quadtree when it has many) by their unoccluded form
-//! factors from the receiver, and gathers the patch's radiosity times the
-//! ratio of that weighted mean to the patch's area mean, per band. The
-//! ratio carries only the distribution over the patch; its level still comes
-//! from the solved patch system, and the row's form factor still says how
-//! much of the patch is visible. Occlusion inside the patch is not known
-//! part by part, so the weights treat the parts as equally visible. Each
+//! receiver near such a patch weighs the patch's parts by their unoccluded
+//! form factors from the receiver, and gathers the patch's radiosity times
+//! the ratio of that weighted mean to the patch's area mean, per band. The
+//! parts are a cut of the patch's quadtree (its leaves when it has few), and
+//! a receiver looks inside every part it is near (see [`OPEN`]), down to the
+//! leaves: a receiver in a corner sees the leaves beside it, not the mean of
+//! a part that also reaches round the far side of a pier. A part's value is
+//! the radiosity of its exposed leaves, and its weight counts only its
+//! exposed share, since what stands on a surface hides it from every
+//! receiver. The ratio carries only the distribution over the patch; its
+//! level still comes from the solved patch system, and the row's form factor
+//! still says how much of the patch is visible. Occlusion inside the patch
+//! is not known part by part otherwise, so the weights treat the exposed
+//! parts as equally visible. Each
 //! patch's factors are finally scaled so that its receivers together gather
 //! from it what it sends them: in a closed scene what they gathered from its
 //! mean (the correction moves light between receivers and conserves it), in
@@ -90,8 +96,9 @@ pub(crate) const NEAR: f64 = 6.0;
 /// outside the reach (elements on a regular grid often lie exactly at it).
 pub(crate) const FULLY_NEAR: f64 = 5.0;
 
-/// Most parts a patch is weighed by: its leaves, or the deepest cut of its
-/// quadtree with at most this many nodes.
+/// Most parts a patch's cut has: its leaves, or the deepest cut of its
+/// quadtree with at most this many nodes (receivers near a part look
+/// inside it).
 pub(crate) const MAX_PARTS: usize = 64;
 
 /// A patch counts as unevenly lit when, in some band, its parts' radiosities
@@ -151,7 +158,24 @@ struct Shaped {
     /// receivers than on average. 1 in a closed scene (see
     /// [`SourceShapes::new`]).
     sent: Rgb,
-    parts: Vec<(SourcePolygon, Rgb)>,
+    /// The parts: the cut's nodes first (`parts[..top]`), then, below
+    /// each, its children, so that a receiver near a part can look inside it.
+    parts: Vec<Part>,
+    /// How many of `parts` form the cut.
+    top: usize,
+}
+
+/// A node of a shaped patch's quadtree as a source.
+#[derive(Debug)]
+struct Part {
+    source: SourcePolygon,
+    /// The radiosity of its exposed leaves (see [`exposed_power`]).
+    value: Rgb,
+    /// Its exposed share of its area: what a receiver can see of it.
+    share: f64,
+    /// Its children among the patch's parts (empty for a leaf, and for
+    /// children with nothing exposed).
+    children: std::ops::Range<u32>,
 }
 
 impl SourceShapes {
@@ -180,29 +204,14 @@ impl SourceShapes {
             let Some(parts) = cut(mesh, &patch.roots) else {
                 continue;
             };
-            let parts: Vec<(SourcePolygon, f64, Rgb)> = parts
-                .into_iter()
-                .filter_map(|k| {
-                    let (area, power) = exposed_power(mesh, form_factors, radiosity, k);
-                    if area <= 0.0 {
-                        return None;
-                    }
-                    let e = &mesh.elements[k];
-                    let surface = &mesh.surfaces()[e.surface as usize];
-                    let polygon = surface.polygon(&e.cell);
-                    let source = SourcePolygon::new(&polygon, surface.normal, e.surface);
-                    Some((source, area, power * (1.0 / area)))
-                })
-                .collect();
-            if parts.len() < 2 {
+            let Some(tree) = PartTree::of(mesh, form_factors, radiosity, &parts) else {
                 continue;
-            }
-            let area: f64 = parts.iter().map(|(_, a, _)| a).sum();
-            let mean = parts.iter().fold(Rgb::ZERO, |m, (_, a, b)| m + *b * *a) * (1.0 / area);
+            };
+            let PartTree { parts, top, mean } = tree;
             let uneven = (0..3).any(|band| {
                 let (lo, hi) = parts
                     .iter()
-                    .map(|(_, _, b)| b[band])
+                    .map(|part| part.value[band])
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
                         (lo.min(v), hi.max(v))
                     });
@@ -212,15 +221,15 @@ impl SourceShapes {
                 continue;
             }
             let mut swing = Rgb::ZERO;
-            for (_, _, b) in &parts {
+            for part in &parts {
                 for band in 0..3 {
-                    swing.0[band] = swing.0[band].max((b[band] - mean[band]).abs());
+                    swing.0[band] = swing.0[band].max((part.value[band] - mean[band]).abs());
                 }
             }
             let centre = patch.centroid;
-            let radius = parts
+            let radius = parts[..top]
                 .iter()
-                .flat_map(|(s, _, _)| s.corners().iter())
+                .flat_map(|part| part.source.corners().iter())
                 .map(|v| (*v - centre).length())
                 .fold(0.0, f64::max);
             let mut sent_ratio = Rgb::ONE;
@@ -241,7 +250,8 @@ impl SourceShapes {
                 mean,
                 swing,
                 sent: sent_ratio,
-                parts: parts.into_iter().map(|(s, _, b)| (s, b)).collect(),
+                parts,
+                top,
             });
         }
         SourceShapes { slot, shaped }
@@ -419,13 +429,20 @@ impl SourceShapes {
         }
         let shaped = &self.shaped[s as usize];
         let (mut weight, mut seen) = (0.0, Rgb::ZERO);
-        for (source, b) in &shaped.parts {
-            if !source.faces(eye) {
+        let mut stack: SmallVec<[u32; 64]> = (0..shaped.top as u32).rev().collect();
+        while let Some(i) = stack.pop() {
+            let part = &shaped.parts[i as usize];
+            if !part.source.faces(eye) {
                 continue;
             }
-            let w = source.form_factor_within(eye, normal, WEIGHT_FAR);
+            let source = &part.source;
+            if !part.children.is_empty() && source.radius > OPEN * (source.centre - eye).length() {
+                stack.extend(part.children.clone().rev());
+                continue;
+            }
+            let w = source.form_factor_within(eye, normal, WEIGHT_FAR) * part.share;
             weight += w;
-            seen += *b * w;
+            seen += part.value * w;
         }
         if weight <= 0.0 {
             return None;
@@ -438,6 +455,82 @@ impl SourceShapes {
             }
         }
         Some(ratio)
+    }
+}
+
+/// A receiver looks inside a part (at its children) when the part's
+/// bounding radius exceeds this fraction of its distance from the part's
+/// centre: near a part its detail matters, from afar only its mean.
+/// Measured on the 100 000-triangle atrium (mean per-object error): never
+/// looking inside, 1.50%; at 0.5, 1.32%; at 0.25, 1.31% for more time.
+pub(crate) const OPEN: f64 = 0.5;
+
+/// A shaped patch's parts (see [`Shaped::parts`]) and their mean.
+struct PartTree {
+    parts: Vec<Part>,
+    top: usize,
+    mean: Rgb,
+}
+
+impl PartTree {
+    /// The parts under the nodes `cut` with anything exposed; `None` when
+    /// fewer than two cut nodes have.
+    fn of(
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        radiosity: &Radiosity,
+        cut: &[ElementKey],
+    ) -> Option<PartTree> {
+        let part = |k: ElementKey| -> Option<(Part, f64)> {
+            let (area, power) = exposed_power(mesh, form_factors, radiosity, k);
+            if area <= 0.0 {
+                return None;
+            }
+            let e = &mesh.elements[k];
+            let surface = &mesh.surfaces()[e.surface as usize];
+            let polygon = surface.polygon(&e.cell);
+            let part = Part {
+                source: SourcePolygon::new(&polygon, surface.normal, e.surface),
+                value: power * (1.0 / area),
+                share: (area / e.area).min(1.0),
+                children: 0..0,
+            };
+            Some((part, area))
+        };
+        let mut parts = Vec::new();
+        let mut below: Vec<(u32, ElementKey)> = Vec::new();
+        let (mut area, mut power) = (0.0, Rgb::ZERO);
+        for &k in cut {
+            if let Some((p, a)) = part(k) {
+                area += a;
+                power += p.value * a;
+                below.push((parts.len() as u32, k));
+                parts.push(p);
+            }
+        }
+        let top = parts.len();
+        if top < 2 {
+            return None;
+        }
+        // Children after their parents, each node's contiguous.
+        let mut next = 0;
+        while next < below.len() {
+            let (i, k) = below[next];
+            next += 1;
+            let start = parts.len() as u32;
+            for &c in &mesh.elements[k].children {
+                if let Some((p, _)) = part(c) {
+                    below.push((parts.len() as u32, c));
+                    parts.push(p);
+                }
+            }
+            parts[i as usize].children = start..parts.len() as u32;
+        }
+        Some(PartTree {
+            parts,
+            top,
+            mean: power * (1.0 / area),
+        })
     }
 }
 
