@@ -9,8 +9,10 @@
 //! mean infinite nor hide behind it.
 
 use super::args::CompareArgs;
+use super::stdout::write_out;
 use super::surface_table::{read_table, SurfaceRow, SurfaceTable};
 use anyhow::{bail, Result};
+use std::fmt::Write as _;
 
 const BANDS: [&str; 3] = ["R", "G", "B"];
 
@@ -139,9 +141,10 @@ pub fn run(a: &CompareArgs) -> Result<()> {
             a.reference.display()
         ))
     })?;
-    print_table(&comparison);
+    let mut text = table(&comparison);
     let c = &comparison.relative;
     if c.is_empty() {
+        write_out(&text)?;
         bail!(
             "no band to compare: every surface emits or has a zero reference (see the absolute \
              differences above)"
@@ -149,17 +152,21 @@ pub fn run(a: &CompareArgs) -> Result<()> {
     }
     let mean = c.iter().sum::<f64>() / c.len() as f64;
     let max = c.iter().copied().fold(0.0, f64::max);
-    println!(
+    writeln!(
+        text,
         "mean per-surface error {:.3}%, largest {:.3}% ({} surface-bands)",
         100.0 * mean,
         100.0 * max,
         c.len()
-    );
-    Ok(())
+    )?;
+    write_out(&text)
 }
 
-fn print_table(c: &Comparison) {
-    println!("surface          relative error (R, G, B) %         reference std. error %");
+/// The table of per-surface errors, and the bands with a zero reference.
+fn table(c: &Comparison) -> String {
+    let mut text = String::from(
+        "surface          relative error (R, G, B) %         reference std. error %\n",
+    );
     let mut zero_bands = Vec::new();
     for row in &c.rows {
         let r = row.reference;
@@ -181,7 +188,8 @@ fn print_table(c: &Comparison) {
                 _ => "-".to_string(),
             })
             .collect();
-        println!(
+        let _ = writeln!(
+            text,
             "{:<16} {} {} {}{}   {} {} {}",
             r.name,
             cells[0],
@@ -198,15 +206,17 @@ fn print_table(c: &Comparison) {
         );
     }
     if !zero_bands.is_empty() {
-        println!(
+        let _ = writeln!(
+            text,
             "{} surface-bands have a zero reference, so no relative error; they are left out \
              of the figures below. Absolute differences (solution - reference):",
             zero_bands.len()
         );
         for (name, band, d) in zero_bands {
-            println!("  {name} {band}: {d:+.6e}");
+            let _ = writeln!(text, "  {name} {band}: {d:+.6e}");
         }
     }
+    text
 }
 
 #[cfg(test)]

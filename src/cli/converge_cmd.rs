@@ -31,10 +31,11 @@ pub fn run(a: &ConvergeArgs) -> Result<()> {
         }
         anyhow::Ok(())
     })?;
+    let mut listing = String::new();
     for path in outputs.commit()? {
-        println!("{}", path.display());
+        listing += &format!("{}\n", path.display());
     }
-    Ok(())
+    super::stdout::write_out(&listing)
 }
 
 /// Refuses counts that leave nothing to measure.

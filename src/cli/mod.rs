@@ -14,6 +14,7 @@ mod progress_lines;
 mod reference_cmd;
 mod render_cmd;
 mod solve_cmd;
+mod stdout;
 mod surface_table;
 mod view_args;
 mod views;

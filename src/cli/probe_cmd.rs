@@ -71,7 +71,7 @@ fn run_in_pool(a: &ProbeArgs, settings: &Settings) -> Result<()> {
     }
     match &a.output {
         Some(path) => write_bytes(path, out.as_bytes())?,
-        None => print!("{out}"),
+        None => super::stdout::write_out(&out)?,
     }
     if misses > 0 && !a.quiet {
         eprintln!(

@@ -76,7 +76,7 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
     let text = serde_json::to_string_pretty(&report)? + "\n";
     match &a.output {
         Some(path) => write_bytes(path, text.as_bytes())?,
-        None => print!("{text}"),
+        None => super::stdout::write_out(&text)?,
     }
     Ok(())
 }
