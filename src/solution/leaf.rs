@@ -39,9 +39,12 @@ impl Leaf<'_> {
     /// covered), 0 for one shut in under an object.
     #[must_use]
     pub fn visible(&self) -> f64 {
+        // Straight from the row: `RowState::view` would sum its entries.
         match self.row {
             RowState::ShutIn(_) => 0.0,
-            other => other.view().map_or(1.0, |v| v.visible()),
+            RowState::Computed(row) => row.visible(),
+            RowState::Released(view) => view.visible(),
+            RowState::Pending | RowState::Skipped => 1.0,
         }
     }
 

@@ -114,10 +114,7 @@ impl Solution {
         }
         let light = self.mesh.vertex_irradiance(
             |s| self.texel_surfaces[s as usize].is_some(),
-            |k| {
-                let leaf = self.leaf(k);
-                (leaf.visible_radiosity(), leaf.visible())
-            },
+            |k| self.shown(k),
         );
         self.mesh
             .textured_shading_mesh(&vr, &light, &self.texel_surfaces)
@@ -128,10 +125,14 @@ impl Solution {
     /// weighted by its visible area (see [`Mesh::vertex_radiosity_seen`]).
     #[must_use]
     pub fn vertex_radiosity(&self) -> VertexRadiosity {
-        self.mesh.vertex_radiosity_seen(|k| {
-            let leaf = self.leaf(k);
-            (leaf.visible_radiosity(), leaf.visible())
-        })
+        self.mesh.vertex_radiosity_seen(|k| self.shown(k))
+    }
+
+    /// What leaf `k` shows and the share of it that can be seen: the
+    /// weights of the vertex means pictures and probes are drawn from.
+    fn shown(&self, k: ElementKey) -> (Rgb, f64) {
+        let leaf = self.leaf(k);
+        (leaf.visible_radiosity(), leaf.visible())
     }
 
     /// The display mesh with the radiance a camera sees at each vertex
