@@ -13,7 +13,8 @@
 //! [POINTS [OBJECTS]]]`: a built-in scene, comma-separated object-name
 //! prefixes (`column,arch,bench`), paths and gather rays per point (default
 //! 2 000), points per object (12) and objects per group (6). Points lie on
-//! the visible parts; the figures are means over each group's points.
+//! the visible parts; the figures are means over each group's points, split
+//! by which way the surfaces face (up, down, sideways).
 
 use radiosity::math::Rgb;
 use radiosity::reference::{Reference, ReferenceSettings, SurfacePoint};
@@ -76,6 +77,20 @@ fn points_on(scene: &Scene, object: usize, count: usize, u: &mut Uniform) -> Vec
         .collect()
 }
 
+/// The ways a surface can face, for the table's rows.
+const FACINGS: [&str; 3] = ["up", "down", "sideways"];
+
+/// Which way a surface of unit `normal` faces (y is up).
+fn facing_of(normal: glam::DVec3) -> &'static str {
+    if normal.y > 0.7 {
+        FACINGS[0]
+    } else if normal.y < -0.7 {
+        FACINGS[1]
+    } else {
+        FACINGS[2]
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let usage = "usage: gather_check SCENE GROUPS [PATHS [POINTS [OBJECTS]]]";
@@ -129,10 +144,13 @@ fn main() {
         "| group | points | solver (leaf) | gather from the solution | solver against the gather |"
     );
     println!("| --- | ---: | ---: | ---: | ---: |");
-    for group in groups.split(',') {
+    let rows = groups
+        .split(',')
+        .flat_map(|g| FACINGS.iter().map(move |f| (g, *f)));
+    for (group, facing) in rows {
         let (mut n, mut solver, mut gather, mut truth) = (0usize, 0.0, 0.0, 0.0);
         for (k, (g, p)) in points.iter().enumerate() {
-            if *g != group {
+            if *g != group || facing_of(p.normal) != facing {
                 continue;
             }
             let hit = prober
@@ -148,7 +166,7 @@ fn main() {
         }
         let pct = |x: f64, y: f64| 100.0 * (x / y - 1.0);
         println!(
-            "| {group} | {n} | {:+.2}% | {:+.2}% | {:+.2}% |",
+            "| {group}, {facing} | {n} | {:+.2}% | {:+.2}% | {:+.2}% |",
             pct(solver, truth),
             pct(gather, truth),
             pct(solver, gather)

@@ -263,6 +263,14 @@ pub struct SolveSettingsArgs {
     /// from inside.
     #[arg(long = "dim-floor", default_value_t = radiosity::refine::DEFAULT_DIM_FLOOR)]
     pub dim_floor: f64,
+    /// The same as --dim-floor, for elements that see surfaces nearer than
+    /// their own size over much of their view (the floor under a bench, the
+    /// inside of a corner), where the light changes across them: 0.1 refines
+    /// the contact shadows of dim regions without refining every dim surface
+    /// (on an interior lit through an opening, a third less error for about
+    /// 1.1x the time; in a room lit from inside about 1.3x the time).
+    #[arg(long = "near-floor", default_value_t = radiosity::refine::DEFAULT_NEAR_FLOOR)]
+    pub near_floor: f64,
     /// Deepest element level below a patch.
     #[arg(long = "max-depth", default_value_t = 4)]
     pub max_depth: u8,

@@ -113,6 +113,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             initial_depth: a.initial_depth,
             tolerance: a.refine_tolerance,
             dim_floor: a.dim_floor,
+            near_floor: a.near_floor,
             max_depth: a.max_depth,
             min_element_area: a.min_element_area,
             max_elements: a.max_elements.unwrap_or(usize::MAX),

@@ -22,6 +22,9 @@ pub struct Row {
     /// The share of the receiving element that other objects cover (shut
     /// in where something stands on it), 0 for most.
     covered: f32,
+    /// The form factor of the surfaces the receiver sees close by (see
+    /// [`Row::near`]).
+    near: f32,
 }
 
 impl Row {
@@ -35,6 +38,7 @@ impl Row {
             back_faces: 0.0,
             open: 0.0,
             covered: 0.0,
+            near: 0.0,
         }
     }
 
@@ -50,6 +54,7 @@ impl Row {
             back_faces: (f64::from(self.back_faces) * visible + (1.0 - visible)) as f32,
             open: scale(self.open),
             covered: (1.0 - visible) as f32,
+            near: self.near,
         }
     }
 
@@ -67,6 +72,22 @@ impl Row {
         self.back_faces = back_faces as f32;
         self.open = open as f32;
         self
+    }
+
+    /// The same row, seeing surfaces close by over form factor `near`.
+    #[must_use]
+    pub(crate) fn with_near(mut self, near: f64) -> Self {
+        self.near = near as f32;
+        self
+    }
+
+    /// The form factor of the surfaces, front or back, that the receiver
+    /// saw closer than the reach its row was taken with (a multiple of the
+    /// element's size): where it is large, what the element receives
+    /// changes over the element's own extent.
+    #[must_use]
+    pub fn near(&self) -> f64 {
+        f64::from(self.near)
     }
 
     /// The row without its stored zeros (the same row when it has none).

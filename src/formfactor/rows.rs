@@ -225,6 +225,10 @@ pub(crate) fn compute_rows_with(
                             occluders: o,
                             lod: settings.level_of_detail.then_some(settings.table.n),
                         }),
+                        // Surfaces within the element's own size: where
+                        // they fill much of its view, what it receives
+                        // changes across it (see `Row::near`).
+                        reach: e.area.sqrt(),
                     });
                     if let Some(c) = &coverage {
                         row = row.covered(c.visible);

@@ -20,6 +20,8 @@ pub struct RowView {
     /// The share of the receiver that other objects cover (see
     /// [`Row::visible`]).
     pub covered: f64,
+    /// The form factor of the surfaces seen close by (see [`Row::near`]).
+    pub near: f64,
 }
 
 impl RowView {
@@ -31,6 +33,7 @@ impl RowView {
             back_faces: row.back_faces(),
             open: row.open(),
             covered: 1.0 - row.visible(),
+            near: row.near(),
         }
     }
 

@@ -9,9 +9,9 @@ use super::scale::EmissionScale;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
 use crate::error::{Error, Result};
-use crate::formfactor::{compute_rows_with, FormFactors, Sources};
+use crate::formfactor::{compute_rows_with, FormFactors, RowState, Sources};
 use crate::mesh::{ElementKey, Mesh};
-use crate::refine::{mark_for_split, Marks, SplitLimits};
+use crate::refine::{mark_for_split, Marks, SplitLimits, NEAR_SHARE};
 use crate::scene::{check_coplanar_overlaps, Scene};
 use crate::solution::Solution;
 use crate::solve::{DirectLight, GatherTotals, PatchSystem, Radiosity, SolveReport};
@@ -240,11 +240,18 @@ impl<'a> Workspace<'a> {
         let limits = SplitLimits {
             tolerance: refine.tolerance,
             floor: refine.dim_floor,
+            near_floor: refine.near_floor,
             max_depth: refine.max_depth,
             min_area: self.min_area,
             room,
         };
-        let marks = mark_for_split(&self.mesh, &self.radiosity, limits);
+        let form_factors = &self.form_factors;
+        let is_near = |k| match form_factors.state(k) {
+            RowState::Computed(row) => row.near() > NEAR_SHARE,
+            RowState::ShutIn(view) | RowState::Released(view) => view.near > NEAR_SHARE,
+            RowState::Pending | RowState::Skipped => false,
+        };
+        let marks = mark_for_split(&self.mesh, &self.radiosity, limits, &is_near);
         self.stats.final_max_difference = marks.max_difference;
         if marks.over_budget > 0 && !self.stats.warnings.iter().any(|w| w.starts_with(BUDGET)) {
             self.stats.warnings.push(format!(

@@ -25,6 +25,10 @@ pub(crate) struct SplitLimits {
     pub tolerance: f64,
     /// The local scale's floor, as a fraction of the brightest reflected radiosity.
     pub floor: f64,
+    /// The same floor where either leaf of a pair sees surfaces close by
+    /// (see [`crate::refine::RefineSettings::near_floor`]); the lower of the
+    /// two applies.
+    pub near_floor: f64,
     /// Leaves at this depth do not split.
     pub max_depth: u8,
     /// Children smaller than this (square metres) are not made.
@@ -34,15 +38,22 @@ pub(crate) struct SplitLimits {
 }
 
 /// Marks leaves whose radiosity differs from an edge neighbour's by more than
-/// the tolerance, measured by [`Contrast`]. Both sides of such an edge are
-/// marked, if they may split: depth below the limit, children no smaller than
-/// the least area, and the largest differences first until the budget of new
-/// leaves is used up.
+/// the tolerance, measured by [`Contrast`], with the near floor where
+/// `is_near` says either leaf sees surfaces close by. Both sides of such an
+/// edge are marked, if they may split: depth below the limit, children no
+/// smaller than the least area, and the largest differences first until the
+/// budget of new leaves is used up.
 #[must_use]
-pub(crate) fn mark_for_split(mesh: &Mesh, radiosity: &Radiosity, limits: SplitLimits) -> Marks {
+pub(crate) fn mark_for_split(
+    mesh: &Mesh,
+    radiosity: &Radiosity,
+    limits: SplitLimits,
+    is_near: &dyn Fn(ElementKey) -> bool,
+) -> Marks {
     let SplitLimits {
         tolerance,
         floor,
+        near_floor,
         max_depth,
         min_area,
         room,
@@ -52,6 +63,9 @@ pub(crate) fn mark_for_split(mesh: &Mesh, radiosity: &Radiosity, limits: SplitLi
     let Some(contrast) = Contrast::of_scene(mesh, radiosity, floor) else {
         return marks;
     };
+    let near_contrast =
+        Contrast::of_scene(mesh, radiosity, near_floor.min(floor)).unwrap_or(contrast);
+    let near: Vec<bool> = leaves.iter().map(|&k| is_near(k)).collect();
     let order: std::collections::HashMap<ElementKey, usize> =
         leaves.iter().enumerate().map(|(i, k)| (*k, i)).collect();
     let mut worst: Vec<f64> = vec![0.0; leaves.len()];
@@ -60,9 +74,11 @@ pub(crate) fn mark_for_split(mesh: &Mesh, radiosity: &Radiosity, limits: SplitLi
             if !mesh.elements[n].is_leaf() {
                 continue;
             }
-            let d = contrast.between(mesh, radiosity, k, n);
+            let j = order.get(&n).copied();
+            let close = near[i] || j.is_some_and(|j| near[j]);
+            let d = if close { near_contrast } else { contrast }.between(mesh, radiosity, k, n);
             worst[i] = worst[i].max(d);
-            if let Some(&j) = order.get(&n) {
+            if let Some(j) = j {
                 worst[j] = worst[j].max(d);
             }
         }

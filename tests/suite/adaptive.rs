@@ -282,9 +282,78 @@ fn a_dim_floor_refines_a_dim_shadow_as_one_in_full_light() {
     );
 }
 
-/// A dim floor outside (0, 1] is refused before any form factor, naming the
-/// setting: 0 would divide by nothing in black regions, and above 1 it would
-/// only loosen the tolerance.
+/// A seat 0.3 m above a floor of 2 m patches, beside a tile forty times as
+/// bright: at the scene-wide scale the seat's shadow is too dim to split the
+/// floor's 1 m leaves. The leaf whose centroid lies under the seat sees it
+/// nearer than its own size over half its view, so a near floor of 0.1
+/// measures its differences against its own light and splits it: the
+/// bench in a dim corridor. The error about the seat (the leaves within
+/// 0.25 m of its footprint) against the exact oracle falls. (Its children
+/// each see the seat over a quarter of their view, below `radiosity::refine::NEAR_SHARE`, so
+/// they split no further here.)
+#[test]
+fn a_near_floor_refines_a_low_seat_s_shadow_in_a_dim_region() {
+    let mut spec = penumbra_parallel();
+    // Centred over the centroid of one of the floor's first 1 m leaves:
+    // the share is taken at centroids, and a seat narrower than a leaf
+    // that lay between them would not be seen (a limit of the criterion).
+    let (x0, x1, z0, z1, y) = (0.0, 1.0, 0.3, 0.7, 0.3);
+    spec.occluders = vec![[
+        DVec3::new(x0, y, z0),
+        DVec3::new(x1, y, z0),
+        DVec3::new(x1, y, z1),
+        DVec3::new(x0, y, z1),
+    ]];
+    let scene = penumbra_beside_a_bright_tile(&spec, 40.0);
+    let about_the_seat = |settings: &Settings| {
+        let m = super::penumbra_metrics::measure_scene(&spec, &scene, settings);
+        let margin = 0.25;
+        let near: Vec<_> = m
+            .floor
+            .iter()
+            .filter(|e| {
+                let c = e.polygon.iter().copied().sum::<DVec3>() / e.polygon.len() as f64;
+                (x0 - margin..x1 + margin).contains(&c.x)
+                    && (z0 - margin..z1 + margin).contains(&c.z)
+            })
+            .collect();
+        let area: f64 = near.iter().map(|e| e.area).sum();
+        let error = near
+            .iter()
+            .map(|e| (e.solved - e.exact).abs() * e.area)
+            .sum::<f64>()
+            / area
+            / m.light_on;
+        let largest = near.iter().map(|e| e.area.sqrt()).fold(0.0, f64::max);
+        (near.len(), largest, error)
+    };
+    // Patches as large as an interior's: the floor's first leaves are 1 m.
+    let interior = Settings {
+        patch_size: Some(2.0),
+        ..Settings::default()
+    };
+    let mut near = interior.clone();
+    near.refine.near_floor = 0.1;
+    let (count, largest, error) = about_the_seat(&near);
+    let (count_wide, largest_wide, error_wide) = about_the_seat(&interior);
+    eprintln!(
+        "about the seat: {count} leaves up to {largest:.3} m, error {error:.3e}; \
+         near floor 1: {count_wide} up to {largest_wide:.3} m, error {error_wide:.3e}"
+    );
+    assert!(largest <= 0.5, "leaves about the seat up to {largest} m");
+    assert!(
+        largest_wide >= 1.0,
+        "near floor 1 splits them too ({largest_wide} m): the test would not see it"
+    );
+    assert!(
+        error_wide > 2.0 * error,
+        "about the seat {error:.3e}, at near floor 1 {error_wide:.3e}"
+    );
+}
+
+/// A dim or near floor outside (0, 1] is refused before any form factor,
+/// naming the setting: 0 would divide by nothing in black regions, and above
+/// 1 it would only loosen the tolerance.
 #[test]
 fn a_dim_floor_out_of_range_is_refused_naming_the_setting() {
     for bad in [0.0, -0.1, 1.5, f64::NAN] {
@@ -293,7 +362,14 @@ fn a_dim_floor_out_of_range_is_refused_naming_the_setting() {
         let message = settings.validate().unwrap_err().to_string();
         assert!(message.contains("dim-floor"), "{bad}: {message}");
     }
+    for bad in [0.0, -0.1, 1.5, f64::NAN] {
+        let mut settings = Settings::default();
+        settings.refine.near_floor = bad;
+        let message = settings.validate().unwrap_err().to_string();
+        assert!(message.contains("near-floor"), "{bad}: {message}");
+    }
     let mut fine = Settings::default();
     fine.refine.dim_floor = 0.1;
+    fine.refine.near_floor = 1.0;
     assert!(fine.validate().is_ok());
 }

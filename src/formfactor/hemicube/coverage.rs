@@ -45,7 +45,7 @@ impl Hemicube {
         own_surface: u32,
     ) -> ItemCoverage {
         self.render::<true>(sources, None, eye, normal, angle, own_surface, false, None);
-        let back_faces = self.sum_won();
+        let (back_faces, _) = self.sum_won(0.0);
         self.covered_touched.sort_unstable();
         let polygons = self
             .covered_touched

@@ -357,6 +357,7 @@ mod tests {
                         occluders: &occluders,
                         lod,
                     }),
+                    reach: 0.0,
                 })
             })
             .collect()

@@ -34,6 +34,9 @@ pub(crate) struct RowRequest<'a> {
     pub(crate) emitter_rays: Option<EmitterVisibility<'a>>,
     /// How to find what to draw (see `cull.rs`); `None` draws every polygon.
     pub(crate) cull: Option<Cull<'a>>,
+    /// Surfaces nearer than this along a face's axis count as near (see
+    /// [`Row::near`]); 0 measures nothing.
+    pub(crate) reach: f64,
 }
 
 impl Hemicube {
@@ -62,6 +65,7 @@ impl Hemicube {
             method,
             emitter_rays: None,
             cull: None,
+            reach: 0.0,
         })
     }
 
@@ -77,6 +81,7 @@ impl Hemicube {
             method,
             emitter_rays,
             cull,
+            reach,
         } = request;
         let hybrid = method == FormFactorMethod::Hybrid;
         self.render::<true>(
@@ -89,7 +94,7 @@ impl Hemicube {
             hybrid,
             cull.as_ref(),
         );
-        let (mut row, front, back) = self.accumulate();
+        let (mut row, front, back, near) = self.accumulate(reach);
         // The delta form factors sum to exactly 1, so what neither a front
         // nor a back face won is open sky.
         let open = (1.0 - front - back).max(0.0);
@@ -109,7 +114,7 @@ impl Hemicube {
             self.covered[id as usize] = 0.0;
             self.covered_pixels[id as usize] = 0;
         }
-        row.with_hidden(back, open)
+        row.with_hidden(back, open).with_near(near)
     }
 
     /// Benchmark hook, not for use: renders the item buffer as
@@ -134,10 +139,10 @@ impl Hemicube {
     }
 
     /// Sums delta form factors per patch and returns the sparse row, with
-    /// the delta form factors of all the pixels front faces won and of those
-    /// back faces won.
-    pub(super) fn accumulate(&mut self) -> (Row, f64, f64) {
-        let back = self.sum_won();
+    /// the delta form factors of all the pixels front faces won, of those
+    /// back faces won, and of those either won nearer than `reach`.
+    pub(super) fn accumulate(&mut self, reach: f64) -> (Row, f64, f64, f64) {
+        let (back, near) = self.sum_won(reach);
         self.touched.sort_unstable();
         let mut front = 0.0;
         let entries = self
@@ -150,20 +155,29 @@ impl Hemicube {
             })
             .collect();
         self.touched.clear();
-        (Row::from_sorted(entries), front, back)
+        (Row::from_sorted(entries), front, back, near)
     }
 
     /// Adds the delta form factor of every won pixel to its polygon's slot of
     /// the accumulator, listing the slots touched. Returns the delta form
-    /// factors of the pixels won by back faces.
+    /// factors of the pixels won by back faces, and of the pixels whose
+    /// surface (front or back) lies nearer than `reach` along the face's
+    /// axis (none when `reach` is 0).
     ///
     /// When skipping, only each face's drawn rectangle is read: the pixels
     /// outside it hold nothing, and the ones inside are visited in the same
     /// order as a whole-face pass, so every sum is the same bits.
-    pub(super) fn sum_won(&mut self) -> f64 {
+    pub(super) fn sum_won(&mut self, reach: f64) -> (f64, f64) {
         let table = Arc::clone(&self.table);
         let n = table.n;
         let mut back = 0.0;
+        let mut near = 0.0;
+        // The depth buffers hold 1/depth, 0 where nothing was drawn.
+        let least_inverse = if reach > 0.0 {
+            (1.0 / reach) as f32
+        } else {
+            f32::INFINITY
+        };
         for f in 0..5 {
             let weights = if f == 0 { &table.top } else { &table.side };
             let height = if f == 0 { n } else { n / 2 };
@@ -185,6 +199,16 @@ impl Hemicube {
             }
             for j in d.j0..d.j1 {
                 let span = j * n + d.i0..j * n + d.i1;
+                if reach > 0.0 {
+                    for (&z, &w) in self.depth[f][span.clone()]
+                        .iter()
+                        .zip(&weights[span.clone()])
+                    {
+                        if z > least_inverse {
+                            near += w;
+                        }
+                    }
+                }
                 for (&id, &w) in self.items[f][span.clone()].iter().zip(&weights[span]) {
                     if id < BACK_FACE {
                         let slot = &mut self.accumulator[id as usize];
@@ -198,6 +222,67 @@ impl Hemicube {
                 }
             }
         }
-        back
+        (back, near)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::DeltaTable;
+    use super::*;
+    use crate::formfactor::{point_to_polygon, SourcePolygon};
+
+    /// The square of half-side `half` at `height` above the origin, facing
+    /// down, with its edges along the axes of a hemi-cube on the normal +y
+    /// at angle 0.
+    fn ceiling(height: f64, half: f64) -> Vec<DVec3> {
+        let up = DVec3::Y;
+        let t = up.any_orthonormal_vector();
+        let b = up.cross(t);
+        let c = up * height;
+        vec![
+            c - t * half - b * half,
+            c - t * half + b * half,
+            c + t * half + b * half,
+            c + t * half - b * half,
+        ]
+    }
+
+    /// Under a wide ceiling at height h, a hemi-cube's top face sees it at
+    /// depth h and each side face at depth equal to the point's offset along
+    /// that face's axis; so what lies nearer than a reach r > h is the
+    /// coaxial square of half-side r, and its share is that square's exact
+    /// form factor. Nearer than h nothing is near.
+    #[test]
+    fn near_is_the_form_factor_of_what_lies_within_reach() {
+        let height = 0.5;
+        let wide = ceiling(height, 8.0);
+        let sources = Sources::one_per_patch(vec![SourcePolygon::new(&wide, -DVec3::Y, 1)]);
+        let mut cube = Hemicube::new(Arc::new(DeltaTable::new(256)), 1);
+        let near = |cube: &mut Hemicube, reach: f64| {
+            cube.row_for(&RowRequest {
+                sources: &sources,
+                hidden_back: None,
+                eye: DVec3::ZERO,
+                normal: DVec3::Y,
+                angle: 0.0,
+                own_surface: 0,
+                method: FormFactorMethod::Hemicube,
+                emitter_rays: None,
+                cull: None,
+                reach,
+            })
+            .near()
+        };
+        assert_eq!(near(&mut cube, 0.0), 0.0, "no reach, nothing measured");
+        assert_eq!(near(&mut cube, 0.45), 0.0, "all of it is farther");
+        for reach in [0.75, 1.0, 2.0] {
+            let exact = point_to_polygon(DVec3::ZERO, DVec3::Y, &ceiling(height, reach));
+            let found = near(&mut cube, reach);
+            assert!(
+                (found - exact).abs() < 0.01 * exact,
+                "reach {reach}: {found} against {exact}"
+            );
+        }
     }
 }
