@@ -18,10 +18,11 @@ pub struct RowView {
     /// The form factor of the part of the view where nothing lies.
     pub open: f64,
     /// The share of the receiver that other objects cover (see
-    /// [`Row::visible`]).
-    pub covered: f64,
+    /// [`Row::visible`]); single precision, as the row holds it, so that
+    /// the view takes no more room with `near` beside it.
+    pub covered: f32,
     /// The form factor of the surfaces seen close by (see [`Row::near`]).
-    pub near: f64,
+    pub near: f32,
 }
 
 impl RowView {
@@ -32,8 +33,8 @@ impl RowView {
             sum: row.sum(),
             back_faces: row.back_faces(),
             open: row.open(),
-            covered: 1.0 - row.visible(),
-            near: row.near(),
+            covered: (1.0 - row.visible()) as f32,
+            near: row.near() as f32,
         }
     }
 
@@ -41,7 +42,7 @@ impl RowView {
     /// [`Row::visible`]).
     #[must_use]
     pub fn visible(&self) -> f64 {
-        1.0 - self.covered
+        1.0 - f64::from(self.covered)
     }
 }
 

@@ -32,10 +32,11 @@ impl GatherTotals {
         // A leaf that other objects cover in part sends its light from its
         // visible part, by that part's view; its row also counts the
         // covered part as seeing back faces (see `Row::covered`).
-        let (back, open) = if view.covered > 0.0 {
+        let covered = f64::from(view.covered);
+        let (back, open) = if covered > 0.0 {
             let visible = view.visible();
             (
-                ((view.back_faces - view.covered) / visible).max(0.0),
+                ((view.back_faces - covered) / visible).max(0.0),
                 view.open / visible,
             )
         } else {
