@@ -82,9 +82,10 @@ impl Row {
     }
 
     /// The form factor of the surfaces, front or back, that the receiver
-    /// saw closer than the reach its row was taken with (a multiple of the
-    /// element's size): where it is large, what the element receives
-    /// changes over the element's own extent.
+    /// saw closer than the reach its row was taken with (the element's
+    /// size, the square root of its area), each pixel's distance taken
+    /// along its hemi-cube face's axis: where it is large, what the element
+    /// receives changes over the element's own extent.
     #[must_use]
     pub fn near(&self) -> f64 {
         f64::from(self.near)

@@ -65,7 +65,12 @@ pub(crate) fn mark_for_split(
     };
     let near_contrast =
         Contrast::of_scene(mesh, radiosity, near_floor.min(floor)).unwrap_or(contrast);
-    let near: Vec<bool> = leaves.iter().map(|&k| is_near(k)).collect();
+    // At a near floor no lower than the floor, nearness changes nothing.
+    let near: Vec<bool> = if near_floor < floor {
+        leaves.iter().map(|&k| is_near(k)).collect()
+    } else {
+        vec![false; leaves.len()]
+    };
     let order: std::collections::HashMap<ElementKey, usize> =
         leaves.iter().enumerate().map(|(i, k)| (*k, i)).collect();
     let mut worst: Vec<f64> = vec![0.0; leaves.len()];
