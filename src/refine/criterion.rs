@@ -63,13 +63,15 @@ pub(crate) fn mark_for_split(
     let Some(contrast) = Contrast::of_scene(mesh, radiosity, floor) else {
         return marks;
     };
-    let near_contrast =
-        Contrast::of_scene(mesh, radiosity, near_floor.min(floor)).unwrap_or(contrast);
-    // At a near floor no lower than the floor, nearness changes nothing.
-    let near: Vec<bool> = if near_floor < floor {
-        leaves.iter().map(|&k| is_near(k)).collect()
+    // At a near floor no lower than the floor, nearness changes nothing:
+    // neither the second scale nor the rows' shares are looked at.
+    let (near_contrast, near): (Contrast, Vec<bool>) = if near_floor < floor {
+        (
+            Contrast::of_scene(mesh, radiosity, near_floor).unwrap_or(contrast),
+            leaves.iter().map(|&k| is_near(k)).collect(),
+        )
     } else {
-        vec![false; leaves.len()]
+        (contrast, vec![false; leaves.len()])
     };
     let order: std::collections::HashMap<ElementKey, usize> =
         leaves.iter().enumerate().map(|(i, k)| (*k, i)).collect();

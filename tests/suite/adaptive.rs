@@ -289,8 +289,8 @@ fn a_dim_floor_refines_a_dim_shadow_as_one_in_full_light() {
 /// measures its differences against its own light and splits it: the
 /// bench in a dim corridor. The error about the seat (the leaves within
 /// 0.25 m of its footprint) against the exact oracle falls. (Its children
-/// each see the seat over a quarter of their view, below `radiosity::refine::NEAR_SHARE`, so
-/// they split no further here.)
+/// each see the seat over a quarter of their view, below
+/// `radiosity::refine::NEAR_SHARE`, so they split no further here.)
 #[test]
 fn a_near_floor_refines_a_low_seat_s_shadow_in_a_dim_region() {
     let mut spec = penumbra_parallel();
@@ -356,17 +356,17 @@ fn a_near_floor_refines_a_low_seat_s_shadow_in_a_dim_region() {
 /// 1 it would only loosen the tolerance.
 #[test]
 fn a_dim_floor_out_of_range_is_refused_naming_the_setting() {
-    for bad in [0.0, -0.1, 1.5, f64::NAN] {
-        let mut settings = Settings::default();
-        settings.refine.dim_floor = bad;
-        let message = settings.validate().unwrap_err().to_string();
-        assert!(message.contains("dim-floor"), "{bad}: {message}");
-    }
-    for bad in [0.0, -0.1, 1.5, f64::NAN] {
-        let mut settings = Settings::default();
-        settings.refine.near_floor = bad;
-        let message = settings.validate().unwrap_err().to_string();
-        assert!(message.contains("near-floor"), "{bad}: {message}");
+    for name in ["dim-floor", "near-floor"] {
+        for bad in [0.0, -0.1, 1.5, f64::NAN] {
+            let mut settings = Settings::default();
+            if name == "dim-floor" {
+                settings.refine.dim_floor = bad;
+            } else {
+                settings.refine.near_floor = bad;
+            }
+            let message = settings.validate().unwrap_err().to_string();
+            assert!(message.contains(name), "{name} {bad}: {message}");
+        }
     }
     let mut fine = Settings::default();
     fine.refine.dim_floor = 0.1;
