@@ -183,6 +183,8 @@ struct Report<'a> {
     shaped_sources: &'a [usize],
     /// Per shaped gather, the corrections of the patch radiosities.
     shaped_corrections: &'a [usize],
+    /// Per shaped gather, the receivers that saw a patch part by part.
+    shaped_views: &'a [usize],
     final_max_difference: f64,
     /// `null`: the full solution; N: emitted light and N reflections.
     bounces: Option<u32>,
@@ -344,6 +346,7 @@ fn run_in_pool(
         },
         shaped_sources: &s.shaped_sources,
         shaped_corrections: &s.shaped_corrections,
+        shaped_views: &s.shaped_views,
         final_max_difference: s.final_max_difference,
         bounces: s.bounces,
         patch_size: s.patch_size,

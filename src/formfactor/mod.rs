@@ -21,12 +21,13 @@ mod visibility;
 
 pub(crate) use backfaces::ClosedObjects;
 pub(crate) use eye::{eye_lift, receiving_point};
+pub(crate) use hemicube::PartSources;
 pub use method::{EmitterSampling, FormFactorMethod};
 pub use point_polygon::point_to_polygon;
 pub(crate) use quadrature::{element_samples, Samples};
 pub use row::Row;
 pub use rows::{compute_rows, RowSettings};
-pub(crate) use rows::{compute_rows_with, element_seed, RowSkips};
+pub(crate) use rows::{compute_rows_with, element_seed, RowScene, RowSkips};
 pub use sources::{SourcePolygon, Sources};
 pub(crate) use split_rows::{update_rows_for_splits, SplitPatch};
 pub use store::{FormFactors, RowState, RowView};

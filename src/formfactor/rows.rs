@@ -1,12 +1,14 @@
 //! Element-to-patch rows for many receivers at once, in parallel.
 
 use super::contacts::Contacts;
-use super::hemicube::{Cull, DeltaTable, Hemicube, HemicubeStats, RowRequest};
+use super::contacts::Coverage;
+use super::hemicube::{Cull, DeltaTable, Hemicube, HemicubeStats, PartSources, RowRequest};
 use super::{
     element_samples, eye_lift, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility,
     Occluders, Row, Samples, Sources,
 };
 use crate::mesh::{Cell, ElementKey, Mesh};
+use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -117,124 +119,13 @@ pub(crate) fn compute_rows_with(
     progress: &(dyn Fn(usize) + Sync),
 ) -> (Vec<Row>, HemicubeStats) {
     let done = AtomicUsize::new(0);
-    let patches = mesh.patches.len();
-    let exact = skips.unoccluded && settings.method == super::FormFactorMethod::Hybrid;
-    // The BVH over the polygons: what each hemi-cube draws is found through
-    // it, and so is the visibility of emitters.
-    let occluders = (!exact).then(|| Occluders::new(sources));
-    let emitters_exact = !exact
-        && settings.emitter_sampling != EmitterSampling::Pixels
-        && settings.method == super::FormFactorMethod::Hybrid
-        && !sources.emitters.is_empty();
-    // Where other objects touch a surface, the elements they cover in part.
-    let contacts = occluders
-        .as_ref()
-        .map(|o| Contacts::new(mesh, sources, o))
-        .filter(|c| !c.is_empty());
-    let closed = (skips.hidden_back_faces && !exact)
-        .then(|| ClosedObjects::new(mesh))
-        .filter(|c| !c.is_empty());
+    let scene = RowScene::new(mesh, sources, settings, skips);
     let results: Vec<(Row, HemicubeStats)> = keys
         .par_iter()
         .map_init(
-            || {
-                let mut cube = Hemicube::new(Arc::clone(&settings.table), patches);
-                cube.set_skip_empty_faces(skips.empty_faces);
-                (cube, Vec::new())
-            },
+            || scene.cube(),
             |(cube, hidden), &key| {
-                let e = &mesh.elements[key];
-                let lattice = &mesh.surfaces[e.surface as usize];
-                let h = element_seed(settings.seed, e.surface, &e.cell);
-                let angle = (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
-                let lift = eye_lift(lattice.normal, e.area);
-                let mut eye = e.centroid + lift;
-                let coverage = match (&contacts, &occluders) {
-                    (Some(c), Some(o)) => {
-                        let polygon = lattice.polygon(&e.cell);
-                        c.touching(e.surface, &polygon, lattice.normal)
-                            .and_then(|size| {
-                                o.coverage(
-                                    sources,
-                                    &polygon,
-                                    lattice.normal,
-                                    e.surface,
-                                    lift,
-                                    h,
-                                    size,
-                                )
-                            })
-                    }
-                    _ => None,
-                };
-                if let Some(c) = &coverage {
-                    eye = c.eye;
-                }
-                let (row, stats) = if exact {
-                    let stats = HemicubeStats {
-                        exact_rows: 1,
-                        ..HemicubeStats::default()
-                    };
-                    (
-                        unoccluded_row(sources, eye, lattice.normal, e.surface),
-                        stats,
-                    )
-                } else {
-                    let hidden_back = closed.as_ref().map(|c| {
-                        c.hidden_from(eye, hidden);
-                        hidden.as_slice()
-                    });
-                    let before = cube.stats;
-                    let samples = if emitters_exact {
-                        match (settings.emitter_sampling, &coverage) {
-                            (EmitterSampling::Rays | EmitterSampling::Pixels, _) => Samples::new(),
-                            // A partly covered element's own visible
-                            // points: the Gauss points would count the
-                            // covered part twice, as its row is scaled
-                            // by the visible share already.
-                            (_, Some(c)) => c.samples.clone(),
-                            (EmitterSampling::Element, None) => {
-                                element_samples(&lattice.polygon(&e.cell), lift)
-                            }
-                            (EmitterSampling::Centre, None) => {
-                                Samples::from_buf_and_len([(eye, 1.0); 4], 1)
-                            }
-                        }
-                    } else {
-                        Samples::new()
-                    };
-                    let rays =
-                        occluders
-                            .as_ref()
-                            .filter(|_| emitters_exact)
-                            .map(|o| EmitterVisibility {
-                                occluders: o,
-                                seed: h,
-                                samples: &samples,
-                            });
-                    let mut row = cube.row_for(&RowRequest {
-                        sources,
-                        hidden_back,
-                        eye,
-                        normal: lattice.normal,
-                        angle,
-                        own_surface: e.surface,
-                        method: settings.method,
-                        emitter_rays: rays,
-                        cull: occluders.as_ref().map(|o| Cull {
-                            occluders: o,
-                            lod: settings.level_of_detail.then_some(settings.table.n),
-                        }),
-                        // Surfaces within the element's own size: where
-                        // they fill much of its view, what it receives
-                        // changes across it (see `Row::near`).
-                        reach: e.area.sqrt(),
-                    });
-                    if let Some(c) = &coverage {
-                        row = row.covered(c.visible);
-                    }
-                    (row, cube.stats - before)
-                };
+                let (row, stats) = scene.row(cube, hidden, key);
                 let n = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if n.is_multiple_of(64) || n == keys.len() {
                     progress(n);
@@ -252,4 +143,226 @@ pub(crate) fn compute_rows_with(
         })
         .collect();
     (rows, stats)
+}
+
+/// What the rows of a mesh's leaves are drawn with, built once for many.
+pub(crate) struct RowScene<'a> {
+    mesh: &'a Mesh,
+    sources: &'a Sources,
+    settings: &'a RowSettings,
+    skips: RowSkips,
+    /// Hybrid rows are the exact unoccluded form factors (see
+    /// [`RowSkips::unoccluded`]).
+    exact: bool,
+    /// The visibility of emitters is found by rays where the item buffer is
+    /// unsure.
+    emitters_exact: bool,
+    /// The BVH over the polygons: what each hemi-cube draws is found
+    /// through it, and so is the visibility of emitters.
+    occluders: Option<Occluders>,
+    /// Where other objects touch a surface, the elements they cover in part.
+    contacts: Option<Contacts>,
+    closed: Option<ClosedObjects>,
+}
+
+/// Where a leaf looks from.
+struct Viewpoint {
+    eye: DVec3,
+    angle: f64,
+    /// The leaf's seed (see [`element_seed`]).
+    seed: u64,
+    lift: DVec3,
+    /// The part of it that objects touching its surface leave visible.
+    coverage: Option<Coverage>,
+}
+
+impl<'a> RowScene<'a> {
+    /// The scene of `mesh`'s leaves seen through `sources`.
+    pub(crate) fn new(
+        mesh: &'a Mesh,
+        sources: &'a Sources,
+        settings: &'a RowSettings,
+        skips: &RowSkips,
+    ) -> Self {
+        let exact = skips.unoccluded && settings.method == super::FormFactorMethod::Hybrid;
+        let occluders = (!exact).then(|| Occluders::new(sources));
+        let emitters_exact = !exact
+            && settings.emitter_sampling != EmitterSampling::Pixels
+            && settings.method == super::FormFactorMethod::Hybrid
+            && !sources.emitters.is_empty();
+        let contacts = occluders
+            .as_ref()
+            .map(|o| Contacts::new(mesh, sources, o))
+            .filter(|c| !c.is_empty());
+        let closed = (skips.hidden_back_faces && !exact)
+            .then(|| ClosedObjects::new(mesh))
+            .filter(|c| !c.is_empty());
+        RowScene {
+            mesh,
+            sources,
+            settings,
+            skips: *skips,
+            exact,
+            emitters_exact,
+            occluders,
+            contacts,
+            closed,
+        }
+    }
+
+    /// A worker's hemi-cube and its buffer of hidden back faces.
+    fn cube(&self) -> (Hemicube, Vec<bool>) {
+        let mut cube = Hemicube::new(Arc::clone(&self.settings.table), self.mesh.patches.len());
+        cube.set_skip_empty_faces(self.skips.empty_faces);
+        (cube, Vec::new())
+    }
+
+    /// Where leaf `key` looks from: its centroid, lifted off its surface,
+    /// or the centre of its visible part where other objects cover it.
+    fn viewpoint(&self, key: ElementKey) -> Viewpoint {
+        let e = &self.mesh.elements[key];
+        let lattice = &self.mesh.surfaces[e.surface as usize];
+        let seed = element_seed(self.settings.seed, e.surface, &e.cell);
+        let angle = (seed >> 11) as f64 * (1.0 / (1u64 << 53) as f64) * std::f64::consts::TAU;
+        let lift = eye_lift(lattice.normal, e.area);
+        let coverage = match (&self.contacts, &self.occluders) {
+            (Some(c), Some(o)) => {
+                let polygon = lattice.polygon(&e.cell);
+                c.touching(e.surface, &polygon, lattice.normal)
+                    .and_then(|size| {
+                        o.coverage(
+                            self.sources,
+                            &polygon,
+                            lattice.normal,
+                            e.surface,
+                            lift,
+                            seed,
+                            size,
+                        )
+                    })
+            }
+            _ => None,
+        };
+        let eye = coverage.as_ref().map_or(e.centroid + lift, |c| c.eye);
+        Viewpoint {
+            eye,
+            angle,
+            seed,
+            lift,
+            coverage,
+        }
+    }
+
+    /// The request for leaf `key`'s row from `view`, without emitter rays.
+    fn request<'r>(
+        &'r self,
+        key: ElementKey,
+        view: &Viewpoint,
+        hidden: &'r mut Vec<bool>,
+    ) -> RowRequest<'r> {
+        let e = &self.mesh.elements[key];
+        let lattice = &self.mesh.surfaces[e.surface as usize];
+        let hidden_back = self.closed.as_ref().map(|c| {
+            c.hidden_from(view.eye, hidden);
+            hidden.as_slice()
+        });
+        RowRequest {
+            sources: self.sources,
+            hidden_back,
+            eye: view.eye,
+            normal: lattice.normal,
+            angle: view.angle,
+            own_surface: e.surface,
+            method: self.settings.method,
+            emitter_rays: None,
+            cull: self.occluders.as_ref().map(|o| Cull {
+                occluders: o,
+                lod: self
+                    .settings
+                    .level_of_detail
+                    .then_some(self.settings.table.n),
+            }),
+            // Surfaces within the element's own size: where they fill much
+            // of its view, what it receives changes across it (see
+            // `Row::near`).
+            reach: e.area.sqrt(),
+        }
+    }
+
+    /// Leaf `key`'s row, drawn with `cube`, and the work it took.
+    fn row(
+        &self,
+        cube: &mut Hemicube,
+        hidden: &mut Vec<bool>,
+        key: ElementKey,
+    ) -> (Row, HemicubeStats) {
+        let e = &self.mesh.elements[key];
+        let lattice = &self.mesh.surfaces[e.surface as usize];
+        let view = self.viewpoint(key);
+        if self.exact {
+            let stats = HemicubeStats {
+                exact_rows: 1,
+                ..HemicubeStats::default()
+            };
+            let row = unoccluded_row(self.sources, view.eye, lattice.normal, e.surface);
+            return (row, stats);
+        }
+        let before = cube.stats;
+        let samples = if self.emitters_exact {
+            match (self.settings.emitter_sampling, &view.coverage) {
+                (EmitterSampling::Rays | EmitterSampling::Pixels, _) => Samples::new(),
+                // A partly covered element's own visible points: the Gauss
+                // points would count the covered part twice, as its row is
+                // scaled by the visible share already.
+                (_, Some(c)) => c.samples.clone(),
+                (EmitterSampling::Element, None) => {
+                    element_samples(&lattice.polygon(&e.cell), view.lift)
+                }
+                (EmitterSampling::Centre, None) => {
+                    Samples::from_buf_and_len([(view.eye, 1.0); 4], 1)
+                }
+            }
+        } else {
+            Samples::new()
+        };
+        let mut request = self.request(key, &view, hidden);
+        request.emitter_rays = self
+            .occluders
+            .as_ref()
+            .filter(|_| self.emitters_exact)
+            .map(|o| EmitterVisibility {
+                occluders: o,
+                seed: view.seed,
+                samples: &samples,
+            });
+        let mut row = cube.row_for(&request);
+        if let Some(c) = &view.coverage {
+            row = row.covered(c.visible);
+        }
+        (row, cube.stats - before)
+    }
+
+    /// Per leaf of `keys` (the `n`th), `f(n, view)`, where `view` draws the
+    /// leaf's hemi-cube from the point its row was drawn from with the
+    /// patches it is given part by part (see [`Hemicube::part_view`]). In
+    /// parallel, in the order of `keys`; the same at any thread count.
+    pub(crate) fn with_part_views<T: Send>(
+        &self,
+        keys: &[ElementKey],
+        f: impl Fn(usize, &mut dyn FnMut(&[PartSources<'_>]) -> Vec<(f64, f64)>) -> T + Sync,
+    ) -> Vec<T> {
+        keys.par_iter()
+            .enumerate()
+            .map_init(
+                || self.cube(),
+                |(cube, hidden), (n, &key)| {
+                    let view = self.viewpoint(key);
+                    f(n, &mut |wanted| {
+                        let request = self.request(key, &view, hidden);
+                        cube.part_view(&request, wanted)
+                    })
+                },
+            )
+            .collect()
+    }
 }

@@ -6,7 +6,7 @@ use super::strategy::{Next, Solver};
 use super::workspace::Workspace;
 use super::{Progress, SourcePassStats, Stage};
 use crate::error::Result;
-use crate::formfactor::{update_rows_for_splits, Sources, SplitPatch};
+use crate::formfactor::{update_rows_for_splits, RowScene, Sources, SplitPatch};
 use crate::math::Rgb;
 use crate::mesh::ElementKey;
 use crate::refine::mark_sources;
@@ -235,6 +235,7 @@ impl Gathering {
         if shapes.len() == 0 {
             // The gather would repeat the last one.
             ws.stats.shaped_corrections.push(0);
+            ws.stats.shaped_views.push(0);
             return false;
         }
         let plan = &ws.plan;
@@ -245,7 +246,11 @@ impl Gathering {
             direct: ws.direct.as_ref(),
             factors: None,
         };
-        let factors = shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options);
+        let scene = || RowScene::new(&ws.mesh, &ws.sources, &ws.plan.settings, &ws.plan.skips);
+        let factors = shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, Some(&scene));
+        ws.stats
+            .shaped_views
+            .push(factors.as_ref().map_or(0, |f| f.views));
         options.factors = factors.as_ref();
         self.totals = gather_with(
             &ws.mesh,

@@ -227,6 +227,9 @@ pub struct SolveStats {
     /// Per shaped gather, how many times the patch radiosities were solved
     /// again for what it changed (see `crate::solve::source_shape`).
     pub shaped_corrections: Vec<usize>,
+    /// Per shaped gather, how many receivers drew a hemi-cube again to see
+    /// a near patch part by part, something hiding part of it from them.
+    pub shaped_views: Vec<usize>,
     /// Largest remaining neighbour difference (relative), at the last check.
     pub final_max_difference: f64,
     /// What was computed: `None` (JSON `null`) the full solution, `Some(n)`

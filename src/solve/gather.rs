@@ -3,7 +3,7 @@
 use super::balance::Balance;
 use super::source_shape::{EntryFactors, SourceShapes};
 use super::Radiosity;
-use crate::formfactor::{FormFactors, RowView};
+use crate::formfactor::{FormFactors, RowScene, RowView};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use rayon::prelude::*;
@@ -90,12 +90,15 @@ pub(crate) struct GatherOptions<'a> {
 
 /// The factors a gather with `options` puts on the patch radiosities of
 /// `shapes` (see [`SourceShapes::entry_factors`]); `None` when no patch is
-/// unevenly lit.
-pub(crate) fn shaped_factors(
-    mesh: &Mesh,
+/// unevenly lit. Where `views` is given, receivers whose rows see too little
+/// of a near patch's parts weigh them by what their hemi-cubes, drawn in the
+/// scene it builds (only when one is needed), show of each.
+pub(crate) fn shaped_factors<'s>(
+    mesh: &'s Mesh,
     form_factors: &FormFactors,
     shapes: &SourceShapes,
     options: &GatherOptions<'_>,
+    views: Option<&dyn Fn() -> RowScene<'s>>,
 ) -> Option<EntryFactors> {
     let leaves: Vec<ElementKey> = mesh.leaves();
     let balance = options.balance.filter(|x| !x.seen.is_empty());
@@ -109,7 +112,7 @@ pub(crate) fn shaped_factors(
             options.balance.map_or(1.0, |x| x.receiver(i))
         }
     };
-    shapes.entry_factors(mesh, form_factors, &leaves, row_scale)
+    shapes.entry_factors(mesh, form_factors, &leaves, row_scale, views)
 }
 
 /// [`gather`] with `options`.

@@ -44,7 +44,17 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
     ) -> ItemCoverage {
-        self.render::<true>(sources, None, eye, normal, angle, own_surface, false, None);
+        self.render::<true>(
+            sources,
+            None,
+            eye,
+            normal,
+            angle,
+            own_surface,
+            false,
+            None,
+            &[],
+        );
         let (back_faces, _) = self.sum_won(0.0);
         self.covered_touched.sort_unstable();
         let polygons = self

@@ -13,7 +13,7 @@ use super::faces::Face;
 use super::{Hemicube, BACK_FACE};
 use crate::formfactor::bvh_walk::box_below;
 use crate::formfactor::visibility::unit;
-use crate::formfactor::Occluders;
+use crate::formfactor::{Occluders, SourcePolygon};
 use glam::DVec3;
 
 /// The hemi-cube's frame: its eye, the receiver's normal and the rotated
@@ -85,11 +85,106 @@ pub(super) struct Minor {
     pub(super) reach: f64,
 }
 
+/// What may stand between an eye and a set of polygons: the cone from the
+/// eye that holds them, nearer than their farthest corner, and where they
+/// all lie in one plane, the slab between that plane and its parallel
+/// through the eye.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Between {
+    eye: DVec3,
+    /// Unit axis, half-angle in radians and the farthest corner's distance.
+    cone: Option<(DVec3, f64, f64)>,
+    /// The polygons' unit normal towards the eye, their plane's offset
+    /// along it, and the eye's.
+    slab: Option<(DVec3, f64, f64)>,
+}
+
+impl Between {
+    /// What lies between `eye` and `polygons`, or `None` when the eye lies
+    /// too close to them for anything to be left out.
+    pub(super) fn of<'a>(
+        eye: DVec3,
+        polygons: impl Iterator<Item = &'a SourcePolygon> + Clone,
+    ) -> Option<Between> {
+        let (mut sum, mut count) = (DVec3::ZERO, 0.0);
+        let mut plane: Option<(DVec3, f64)> = None;
+        let mut planar = true;
+        for p in polygons.clone() {
+            sum += p.centre;
+            count += 1.0;
+            let offset = p.normal.dot(p.vertices[0]);
+            match plane {
+                None => plane = Some((p.normal, offset)),
+                Some((n, d)) => {
+                    planar &=
+                        n.dot(p.normal) > 1.0 - 1e-9 && (offset - d).abs() <= 1e-9 * (1.0 + d.abs())
+                }
+            }
+        }
+        if count == 0.0 {
+            return None;
+        }
+        let slab = plane.filter(|_| planar).and_then(|(n, d)| {
+            let (n, d) = if n.dot(eye) >= d { (n, d) } else { (-n, -d) };
+            let height = n.dot(eye);
+            (height > d).then_some((n, d, height))
+        });
+        let cone = (sum / count - eye).try_normalize().and_then(|axis| {
+            let (mut least_cos, mut far) = (1.0f64, 0.0f64);
+            for p in polygons {
+                for &v in p.corners() {
+                    let d = v - eye;
+                    let length = d.length();
+                    if length <= 0.0 {
+                        return None;
+                    }
+                    far = far.max(length);
+                    least_cos = least_cos.min(d.dot(axis) / length);
+                }
+            }
+            let angle = least_cos.clamp(-1.0, 1.0).acos();
+            (angle < 0.5 * std::f64::consts::PI).then_some((axis, angle, far))
+        });
+        (cone.is_some() || slab.is_some()).then_some(Between { eye, cone, slab })
+    }
+
+    /// Whether the sphere of `centre` and `radius` may reach into what lies
+    /// between.
+    pub(super) fn meets(&self, centre: DVec3, radius: f64) -> bool {
+        if let Some((n, d, height)) = self.slab {
+            let s = n.dot(centre);
+            if s + radius < d || s - radius > height {
+                return false;
+            }
+        }
+        if let Some((axis, angle, far)) = self.cone {
+            let v = centre - self.eye;
+            let distance = v.length();
+            if distance <= radius {
+                return true;
+            }
+            if distance - radius > far {
+                return false;
+            }
+            let off = (v.dot(axis) / distance).clamp(-1.0, 1.0).acos();
+            return off <= angle + (radius / distance).asin();
+        }
+        true
+    }
+}
+
 impl Cull<'_> {
     /// Lists in `ids` (sorted) the polygons to draw from `frame` and in
     /// `splats` the BVH nodes to draw as one sample; returns how many polygons
     /// were left out below the horizon.
-    pub(super) fn visible(&self, frame: &Frame, ids: &mut Vec<u32>, splats: &mut Vec<u32>) -> u64 {
+    /// With `within` (none: everything), only what may lie in one of them.
+    pub(super) fn visible(
+        &self,
+        frame: &Frame,
+        ids: &mut Vec<u32>,
+        splats: &mut Vec<u32>,
+        within: &[Between],
+    ) -> u64 {
         ids.clear();
         splats.clear();
         let o = self.occluders;
@@ -108,7 +203,12 @@ impl Cull<'_> {
             let lo = aabb.min.as_dvec3() + o.centre;
             let hi = aabb.max.as_dvec3() + o.centre;
             let summary = &o.summaries[index as usize];
-            if box_below(lo, hi, frame.eye, frame.normal, 0.0) {
+            if box_below(lo, hi, frame.eye, frame.normal, 0.0)
+                || (!within.is_empty()
+                    && !within
+                        .iter()
+                        .any(|c| c.meets((lo + hi) * 0.5, (hi - lo).length() * 0.5)))
+            {
                 culled += u64::from(summary.polygons);
                 continue;
             }
@@ -480,5 +580,31 @@ mod tests {
         eprintln!("{rows} rows, mean sum: every polygon {full:.4}, level of detail {lod:.4}");
         assert!(rows > 300);
         assert!((lod - full).abs() < 5e-3 * full, "{full} {lod}");
+    }
+
+    /// What lies between an eye 1 m over a floor tile and the tile: the
+    /// slab between the floor and the eye's height, inside the cone around
+    /// the tile. Spheres are kept exactly when they reach into that.
+    #[test]
+    fn between_keeps_what_can_stand_between_the_eye_and_the_polygons() {
+        let tile: Vec<DVec3> = [[-1., 0., -1.], [-1., 0., 1.], [1., 0., 1.], [1., 0., -1.]]
+            .iter()
+            .map(|c| DVec3::from_array(*c))
+            .collect();
+        let tile = SourcePolygon::new(&tile, DVec3::Y, 0);
+        let eye = DVec3::new(0.0, 1.0, 0.0);
+        let between = Between::of(eye, std::iter::once(&tile)).expect("a cone and a slab");
+        let small = 0.05;
+        // Halfway down, over the tile: between.
+        assert!(between.meets(DVec3::new(0.3, 0.5, -0.2), small));
+        // Above the eye, below the floor, and beside the tile's cone.
+        assert!(!between.meets(DVec3::new(0.0, 1.5, 0.0), small));
+        assert!(!between.meets(DVec3::new(0.0, -0.5, 0.0), small));
+        assert!(!between.meets(DVec3::new(3.0, 0.5, 0.0), small));
+        // A large sphere beside it reaches in.
+        assert!(between.meets(DVec3::new(3.0, 0.5, 0.0), 2.6));
+        // An eye in the tile's plane leaves nothing out.
+        assert!(Between::of(DVec3::new(3.0, 0.0, 0.0), std::iter::once(&tile)).is_some());
+        assert!(Between::of(DVec3::new(0.0, 0.0, 0.0), std::iter::once(&tile)).is_none());
     }
 }

@@ -5,8 +5,9 @@
 //! One concept a file: the buffers and their read-out ([`Hemicube::row`],
 //! `row.rs`), scan conversion (`raster.rs`), the hybrid form-factor policy
 //! (`hybrid.rs`) and its emitter entries (`emitters.rs`), what a shooter's
-//! item buffer needs (`coverage.rs`), the rectangles drawn into (`drawn.rs`)
-//! and the work counters (`stats.rs`).
+//! item buffer needs (`coverage.rs`), what a receiver sees of a patch part
+//! by part (`parts.rs`), the rectangles drawn into (`drawn.rs`) and the work
+//! counters (`stats.rs`).
 
 mod coverage;
 mod cull;
@@ -14,6 +15,7 @@ mod drawn;
 mod emitters;
 mod faces;
 mod hybrid;
+mod parts;
 mod raster;
 mod row;
 mod stats;
@@ -21,6 +23,7 @@ mod table;
 
 pub(crate) use coverage::Coverage;
 pub(crate) use cull::Cull;
+pub(crate) use parts::PartSources;
 pub(crate) use row::RowRequest;
 pub use stats::HemicubeStats;
 pub use table::DeltaTable;

@@ -1,11 +1,21 @@
 //! Scan conversion: projects source polygons onto the five faces with a depth
 //! test on 1/depth.
 
-use super::cull::{Cull, Frame};
+use super::cull::{Between, Cull, Frame};
 use super::faces::Face;
+use super::parts::PartSources;
 use super::{Drawn, Hemicube, BACK_FACE, NOTHING};
-use crate::formfactor::Sources;
+use crate::formfactor::{SourcePolygon, Sources};
+
+/// How [`Hemicube::draw_polygon`] draws.
+struct Draw<'a> {
+    frame: &'a Frame,
+    own_surface: u32,
+    hidden_back: Option<&'a [bool]>,
+    list_subpixel: bool,
+}
 use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
 
 impl Hemicube {
     /// Fills the item and depth buffers with the front faces of `sources` seen
@@ -23,9 +33,10 @@ impl Hemicube {
         own_surface: u32,
         list_subpixel: bool,
         cull: Option<&Cull<'_>>,
+        parts: &[PartSources<'_>],
     ) {
         self.clear();
-        let n = sources.patch_count();
+        let n = sources.patch_count() + parts.iter().map(|w| w.parts.len()).sum::<usize>();
         if self.accumulator.len() < n {
             self.accumulator.resize(n, 0.0);
             self.covered.resize(n, 0.0);
@@ -34,17 +45,50 @@ impl Hemicube {
         let frame = Frame::new(eye, normal, angle);
         let mut ids = std::mem::take(&mut self.candidates);
         ids.clear();
+        // Only what may stand between the eye and the patches drawn part by
+        // part matters then; where nothing can be left out for one of them,
+        // everything does.
+        let within: SmallVec<[Between; 2]> = parts
+            .iter()
+            .map(|w| Between::of(eye, w.parts.iter().copied()))
+            .collect::<Option<_>>()
+            .unwrap_or_default();
         match cull {
             Some(cull) => {
-                let culled = cull.visible(&frame, &mut ids, &mut self.splats);
+                let culled = cull.visible(&frame, &mut ids, &mut self.splats, &within);
                 self.stats.polygons_culled += culled;
             }
             None => ids.extend(0..sources.polygons.len() as u32),
         }
         for &id in &ids {
-            self.draw_polygon::<FILL>(sources, id, &frame, own_surface, hidden_back, list_subpixel);
+            let poly = &sources.polygons[id as usize];
+            if parts.iter().any(|w| w.patch == poly.patch)
+                || (!within.is_empty() && !within.iter().any(|b| b.meets(poly.centre, poly.radius)))
+            {
+                continue; // drawn part by part below, or hides none of them
+            }
+            let draw = Draw {
+                frame: &frame,
+                own_surface,
+                hidden_back,
+                list_subpixel,
+            };
+            self.draw_polygon::<FILL>(poly, id, poly.patch, &draw);
         }
         self.candidates = ids;
+        let mut item = sources.patch_count() as u32;
+        for w in parts {
+            for &poly in &w.parts {
+                let draw = Draw {
+                    frame: &frame,
+                    own_surface,
+                    hidden_back,
+                    list_subpixel: false,
+                };
+                self.draw_polygon::<FILL>(poly, u32::MAX, item, &draw);
+                item += 1;
+            }
+        }
         let splats = std::mem::take(&mut self.splats);
         if let Some(cull) = cull {
             for &node in &splats {
@@ -54,18 +98,21 @@ impl Hemicube {
         self.splats = splats;
     }
 
-    /// Draws source polygon `id` seen from `frame` (see [`Hemicube::render`]).
-    #[allow(clippy::too_many_arguments)]
+    /// Draws `poly` (source polygon `id`) seen from `draw.frame` as `item`
+    /// where its front shows (see [`Hemicube::render`]).
     fn draw_polygon<const FILL: bool>(
         &mut self,
-        sources: &Sources,
+        poly: &SourcePolygon,
         id: u32,
-        frame: &Frame,
-        own_surface: u32,
-        hidden_back: Option<&[bool]>,
-        list_subpixel: bool,
+        item: u32,
+        draw: &Draw<'_>,
     ) {
-        let poly = &sources.polygons[id as usize];
+        let &Draw {
+            frame,
+            own_surface,
+            hidden_back,
+            list_subpixel,
+        } = draw;
         if poly.surface == own_surface || (poly.centre - frame.eye).dot(frame.normal) < -poly.radius
         {
             self.stats.polygons_culled += 1;
@@ -99,7 +146,7 @@ impl Hemicube {
             self.stats.back_faces_skipped += 1;
             return;
         }
-        let item = if h < 0.0 { poly.patch } else { BACK_FACE };
+        let item = if h < 0.0 { item } else { BACK_FACE };
         let near = 1e-7 * scale;
         match sole_face(&local[..count]) {
             Some(fi) => {

@@ -93,6 +93,7 @@ impl Hemicube {
             own_surface,
             hybrid,
             cull.as_ref(),
+            &[],
         );
         let (mut row, front, back, near) = self.accumulate(reach);
         // The delta form factors sum to exactly 1, so what neither a front
@@ -131,7 +132,17 @@ impl Hemicube {
         angle: f64,
         own_surface: u32,
     ) {
-        self.render::<FILL>(sources, None, eye, normal, angle, own_surface, false, None);
+        self.render::<FILL>(
+            sources,
+            None,
+            eye,
+            normal,
+            angle,
+            own_surface,
+            false,
+            None,
+            &[],
+        );
         for id in self.covered_touched.drain(..) {
             self.covered[id as usize] = 0.0;
             self.covered_pixels[id as usize] = 0;
