@@ -306,6 +306,12 @@ pub struct SolveSettingsArgs {
     /// --bounces]
     #[arg(long = "shaped-gathers", value_name = "N")]
     pub shaped_gathers: Option<usize>,
+    /// In shaped gathers, where something hides part of a near unevenly lit
+    /// patch from an element, draw its hemi-cube again with the patch's
+    /// parts and weigh only the parts it sees (more accurate behind piers
+    /// and plinths; in a cluttered interior about 1.3x the time)
+    #[arg(long = "part-views")]
+    pub part_views: bool,
     /// Render a row for every facet of a finely tessellated object, instead
     /// of one per group of neighbouring facets that face alike (groups that
     /// come out unevenly lit get rows per facet anyway); slower, for

@@ -122,6 +122,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
         },
         bounces: if a.direct_only { Some(1) } else { a.bounces },
         shaped_gathers: a.shaped_gathers,
+        part_views: a.part_views,
         shared_rows: !a.per_facet_rows,
         level_of_detail: !a.no_level_of_detail,
         max_patches: a.max_patches.unwrap_or(usize::MAX),

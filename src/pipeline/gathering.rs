@@ -247,7 +247,11 @@ impl Gathering {
             factors: None,
         };
         let scene = || RowScene::new(&ws.mesh, &ws.sources, &ws.plan.settings, &ws.plan.skips);
-        let factors = shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, Some(&scene));
+        let factors = if ws.settings.part_views {
+            shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, Some(&scene))
+        } else {
+            shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, None)
+        };
         ws.stats
             .shaped_views
             .push(factors.as_ref().map_or(0, |f| f.views));

@@ -69,6 +69,15 @@ pub struct Settings {
     /// [`Settings::shaped_gather_count`]). A positive count with either of
     /// those is refused by [`Settings::validate`].
     pub shaped_gathers: Option<usize>,
+    /// In a shaped gather, a receiver whose row sees clearly less of a near
+    /// patch than the parts' unoccluded form factors add up to draws its
+    /// hemi-cube again with the patch's parts in place of the patch, and
+    /// weighs each part by the share of its pixels it won (see
+    /// `crate::solve::source_shape`). Off by default: it is about one more
+    /// hemi-cube per receiver in a cluttered scene (1.34x the CPU time of
+    /// the 100 000-triangle atrium, for 1.32% -> 1.18% mean per-object
+    /// error).
+    pub part_views: bool,
     /// Neighbouring facets of a face cluster whose normals agree share one
     /// row, rendered at the facet nearest their centre, until the solution
     /// says they differ (see `crate::pipeline`'s row groups): one hemi-cube
@@ -98,6 +107,7 @@ impl Default for Settings {
             max_memory: DEFAULT_MAX_MEMORY,
             bounces: None,
             shaped_gathers: None,
+            part_views: false,
             shared_rows: true,
             skips: Skips::default(),
         }
@@ -186,6 +196,15 @@ impl Settings {
                 "shaped-gathers",
                 "shaped gathers refine the full solution; with a fixed number of bounces \
                  every patch is gathered by its mean"
+                    .to_string(),
+            );
+        }
+        if self.part_views && self.shaped_gather_count() == 0 {
+            return bad(
+                "part-views",
+                "part views weigh the parts of unevenly lit patches in shaped gathers, and \
+                 this solve makes none (the progressive solver, --bounces or \
+                 --shaped-gathers 0)"
                     .to_string(),
             );
         }

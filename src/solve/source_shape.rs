@@ -936,6 +936,48 @@ mod tests {
         b.build().unwrap()
     }
 
+    /// Through the whole solve: with part views the shelf, which the blind
+    /// keeps from the floor's west half, gathers more (the test below finds
+    /// what it sees of the floor brighter than the mean of every part), the
+    /// views are counted, and the energy balance stays as it was.
+    #[test]
+    fn part_views_brighten_the_blinded_shelf_and_keep_the_balance() {
+        let scene = blinded_scene();
+        let solve = |part_views: bool| {
+            let settings = Settings {
+                patch_size: Some(4.0),
+                part_views,
+                ..Settings::default()
+            };
+            crate::solve(&scene, &settings, &|_| {}).unwrap()
+        };
+        let (plain, viewed) = (solve(false), solve(true));
+        assert_eq!(plain.stats.shaped_views, vec![0]);
+        assert!(
+            viewed.stats.shaped_views[0] >= 1,
+            "{:?}",
+            viewed.stats.shaped_views
+        );
+        let shelf = |sol: &Solution| {
+            let (mut area, mut power) = (0.0, 0.0);
+            for k in sol.mesh.leaves() {
+                let e = &sol.mesh.elements[k];
+                if (e.centroid.y - 0.5).abs() < 1e-9 && e.centroid.x > 1.8 {
+                    area += e.area;
+                    power += sol.radiosity.element(k)[0] * e.area;
+                }
+            }
+            power / area
+        };
+        let (before, after) = (shelf(&plain), shelf(&viewed));
+        assert!(after > before * 1.02, "shelf {before} -> {after}");
+        let (a, b) = (
+            plain.stats.energy.relative_difference,
+            viewed.stats.energy.relative_difference,
+        );
+        assert!((a - b).abs() < 1e-3, "energy balance {a} -> {b}");
+    }
+
     /// A receiver with part of an unevenly lit patch hidden from it weighs
     /// the parts its hemi-cube shows, not all of them: its ratio comes out
     /// near the one weighing only the parts the geometry leaves in sight,

@@ -177,6 +177,35 @@ fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
     assert!(message.contains("shaped-gathers"), "{message}");
 }
 
+#[test]
+fn part_views_without_a_shaped_gather_are_refused() {
+    let with_gather = Settings {
+        part_views: true,
+        ..Settings::default()
+    };
+    assert!(with_gather.validate().is_ok());
+    for without in [
+        Settings {
+            part_views: true,
+            shaped_gathers: Some(0),
+            ..Settings::default()
+        },
+        Settings {
+            part_views: true,
+            solver_kind: radiosity::solve::SolverKind::Progressive,
+            ..Settings::default()
+        },
+        Settings {
+            part_views: true,
+            bounces: Some(2),
+            ..Settings::default()
+        },
+    ] {
+        let message = without.validate().unwrap_err().to_string();
+        assert!(message.contains("part-views"), "{message}");
+    }
+}
+
 /// A 6 m wall (one patch) with a pier against it, 0.7 m wide and 0.35 m
 /// deep, and a floor (one patch); a lamp lights the east side of the pier
 /// (z > 3.35), whose shadow darkens the wall and floor west of it. The
