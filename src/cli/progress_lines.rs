@@ -58,6 +58,7 @@ pub fn stage_name(stage: Stage) -> String {
         Stage::FormFactors { pass: 0 } => "form factors".to_string(),
         Stage::FormFactors { pass } => format!("refine {pass}: form factors"),
         Stage::Solve => "solve".to_string(),
+        Stage::PartViews => "shaped gather: part views".to_string(),
         Stage::Shoot { .. } => "shooting".to_string(),
     }
 }

@@ -346,21 +346,30 @@ impl<'a> RowScene<'a> {
     /// leaf's hemi-cube from the point its row was drawn from with the
     /// patches it is given part by part (see [`Hemicube::part_view`]). In
     /// parallel, in the order of `keys`; the same at any thread count.
+    /// `progress` is called with the leaves done so far and their number.
     pub(crate) fn with_part_views<T: Send>(
         &self,
         keys: &[ElementKey],
+        progress: &(dyn Fn(usize, usize) + Sync),
         f: impl Fn(usize, &mut dyn FnMut(&[PartSources<'_>]) -> Vec<(f64, f64)>) -> T + Sync,
     ) -> Vec<T> {
+        let done = AtomicUsize::new(0);
+        progress(0, keys.len());
         keys.par_iter()
             .enumerate()
             .map_init(
                 || self.cube(),
                 |(cube, hidden), (n, &key)| {
                     let view = self.viewpoint(key);
-                    f(n, &mut |wanted| {
+                    let out = f(n, &mut |wanted| {
                         let request = self.request(key, &view, hidden);
                         cube.part_view(&request, wanted)
-                    })
+                    });
+                    let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    if finished.is_multiple_of(64) || finished == keys.len() {
+                        progress(finished, keys.len());
+                    }
+                    out
                 },
             )
             .collect()

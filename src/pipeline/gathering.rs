@@ -11,7 +11,7 @@ use crate::math::Rgb;
 use crate::mesh::ElementKey;
 use crate::refine::mark_sources;
 use crate::solution::Solution;
-use crate::solve::source_shape::SourceShapes;
+use crate::solve::source_shape::{PartViews, SourceShapes};
 use crate::solve::{
     gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, gauss_seidel_with_source,
     shaped_factors, GatherOptions, GatherTotals, PatchSystem, SolveReport,
@@ -247,11 +247,20 @@ impl Gathering {
             factors: None,
         };
         let scene = || RowScene::new(&ws.mesh, &ws.sources, &ws.plan.settings, &ws.plan.skips);
-        let factors = if ws.settings.part_views {
-            shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, Some(&scene))
-        } else {
-            shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, None)
+        let progress = ws.progress;
+        let report = |done, total| {
+            progress(Progress {
+                stage: Stage::PartViews,
+                done,
+                total,
+            });
         };
+        let views = PartViews {
+            scene: &scene,
+            progress: &report,
+        };
+        let views = ws.settings.part_views.then_some(&views);
+        let factors = shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, views);
         ws.stats
             .shaped_views
             .push(factors.as_ref().map_or(0, |f| f.views));

@@ -10,6 +10,9 @@ pub enum Stage {
     },
     /// Coarse solve and gather.
     Solve,
+    /// Hemi-cubes drawn again in a shaped gather, to see near patches part
+    /// by part (`Settings::part_views`).
+    PartViews,
     /// Progressive shooting; `done / total` is the progress of the unshot
     /// fraction from 1 to the tolerance on a log scale.
     Shoot {

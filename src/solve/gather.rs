@@ -1,9 +1,9 @@
 //! One gather from patches to leaf elements.
 
 use super::balance::Balance;
-use super::source_shape::{EntryFactors, SourceShapes};
+use super::source_shape::{EntryFactors, PartViews, SourceShapes};
 use super::Radiosity;
-use crate::formfactor::{FormFactors, RowScene, RowView};
+use crate::formfactor::{FormFactors, RowView};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use rayon::prelude::*;
@@ -98,7 +98,7 @@ pub(crate) fn shaped_factors<'s>(
     form_factors: &FormFactors,
     shapes: &SourceShapes,
     options: &GatherOptions<'_>,
-    views: Option<&dyn Fn() -> RowScene<'s>>,
+    views: Option<&PartViews<'_, 's>>,
 ) -> Option<EntryFactors> {
     let leaves: Vec<ElementKey> = mesh.leaves();
     let balance = options.balance.filter(|x| !x.seen.is_empty());

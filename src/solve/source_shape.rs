@@ -86,6 +86,15 @@ impl EntryFactors {
     }
 }
 
+/// How a shaped gather draws the hemi-cubes of receivers that look at a
+/// patch part by part (see [`SEEN_SHARE`]).
+pub(crate) struct PartViews<'a, 's> {
+    /// Builds the scene they are drawn in (only when one is needed).
+    pub scene: &'a dyn Fn() -> RowScene<'s>,
+    /// Called with the views drawn so far and their number.
+    pub progress: &'a (dyn Fn(usize, usize) + Sync),
+}
+
 /// An entry of a receiver's row to a shaped patch it is near.
 #[derive(Clone, Copy, Debug)]
 struct NearEntry {
@@ -295,7 +304,7 @@ impl SourceShapes {
         form_factors: &FormFactors,
         leaves: &[ElementKey],
         row_scale: impl Fn(usize) -> f64,
-        views: Option<&dyn Fn() -> RowScene<'s>>,
+        views: Option<&PartViews<'_, 's>>,
     ) -> Option<EntryFactors> {
         if self.shaped.is_empty() {
             return None;
@@ -539,7 +548,7 @@ impl SourceShapes {
         form_factors: &FormFactors,
         leaves: &[ElementKey],
         near: &[SmallVec<[NearEntry; 2]>],
-        scene: &dyn Fn() -> RowScene<'s>,
+        views: &PartViews<'_, 's>,
     ) -> (Vec<(usize, usize, Option<Rgb>)>, usize) {
         let which: Vec<usize> = (0..leaves.len())
             .filter(|&n| near[n].iter().any(|x| x.look))
@@ -547,9 +556,9 @@ impl SourceShapes {
         if which.is_empty() {
             return (Vec::new(), 0);
         }
-        let scene = scene();
+        let scene = (views.scene)();
         let keys: Vec<ElementKey> = which.iter().map(|&n| leaves[n]).collect();
-        let ratios = scene.with_part_views(&keys, |index, view| {
+        let ratios = scene.with_part_views(&keys, views.progress, |index, view| {
             let n = which[index];
             let k = leaves[n];
             let e = &mesh.elements[k];
@@ -1038,7 +1047,11 @@ mod tests {
             look: true,
         }])];
         let scene = || RowScene::new(mesh, &sources, &settings, &skips);
-        let (ratios, views) = shapes.seen_ratios(mesh, &sol.form_factors, &[shelf], &near, &scene);
+        let views = PartViews {
+            scene: &scene,
+            progress: &|_, _| {},
+        };
+        let (ratios, views) = shapes.seen_ratios(mesh, &sol.form_factors, &[shelf], &near, &views);
         assert_eq!(views, 1);
         let by_view = ratios[0].2.expect("the shelf sees part of the floor");
         let (all, in_sight, by_view) = (all[0], in_sight[0], by_view[0]);

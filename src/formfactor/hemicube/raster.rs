@@ -6,6 +6,8 @@ use super::faces::Face;
 use super::parts::PartSources;
 use super::{Drawn, Hemicube, BACK_FACE, NOTHING};
 use crate::formfactor::{SourcePolygon, Sources};
+use glam::{DVec2, DVec3};
+use smallvec::SmallVec;
 
 /// How [`Hemicube::draw_polygon`] draws.
 struct Draw<'a> {
@@ -14,8 +16,6 @@ struct Draw<'a> {
     hidden_back: Option<&'a [bool]>,
     list_subpixel: bool,
 }
-use glam::{DVec2, DVec3};
-use smallvec::SmallVec;
 
 impl Hemicube {
     /// Fills the item and depth buffers with the front faces of `sources` seen
