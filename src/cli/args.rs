@@ -323,6 +323,12 @@ pub struct SolveSettingsArgs {
     /// for comparison.
     #[arg(long = "no-level-of-detail")]
     pub no_level_of_detail: bool,
+    /// Refine by neighbour differences only: do not also split the leaves
+    /// that a surface facing them stands closer to than they are wide (a
+    /// seat over a floor, a bench before a wall), whose shadows a leaf's
+    /// centre can miss; faster, for comparison.
+    #[arg(long = "no-facing-split")]
+    pub no_facing_split: bool,
     /// Subdivide every patch uniformly to this depth instead of adapting.
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,

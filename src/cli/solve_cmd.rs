@@ -114,6 +114,7 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
             tolerance: a.refine_tolerance,
             dim_floor: a.dim_floor,
             near_floor: a.near_floor,
+            facing_split: !a.no_facing_split,
             max_depth: a.max_depth,
             min_element_area: a.min_element_area,
             max_elements: a.max_elements.unwrap_or(usize::MAX),

@@ -10,6 +10,7 @@ mod element;
 mod emission_grid;
 mod lattice;
 mod locate;
+mod point_probe;
 mod shading;
 mod texels;
 

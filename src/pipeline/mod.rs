@@ -93,6 +93,7 @@ fn drive(mut ws: Workspace<'_>, mut solver: impl Solver) -> Result<Solution> {
         ws.stats.passes.push(PassStats {
             pass,
             split: marks.split.len(),
+            facing: marks.facing,
             elements: ws.mesh.leaf_count(),
             new_hemicubes,
             seconds: t_pass.elapsed().as_secs_f64(),

@@ -152,6 +152,9 @@ pub struct PassStats {
     pub pass: usize,
     /// Leaves the criterion split.
     pub split: usize,
+    /// Of those, the leaves split because a surface facing them stands
+    /// closer than they are wide ([`crate::refine::RefineSettings::facing_split`]).
+    pub facing: usize,
     /// Leaf elements after the pass (including splits for balance).
     pub elements: usize,
     /// Hemi-cubes computed in the pass.

@@ -11,7 +11,7 @@ use super::{Progress, Settings, SolveStats, Stage};
 use crate::error::{Error, Result};
 use crate::formfactor::{compute_rows_with, FormFactors, RowState, Sources};
 use crate::mesh::{ElementKey, Mesh};
-use crate::refine::{mark_for_split, Marks, SplitLimits, NEAR_SHARE};
+use crate::refine::{mark_facing, mark_for_split, Marks, SplitLimits, NEAR_SHARE};
 use crate::scene::{check_coplanar_overlaps, Scene};
 use crate::solution::Solution;
 use crate::solve::{DirectLight, GatherTotals, PatchSystem, Radiosity, SolveReport};
@@ -251,7 +251,36 @@ impl<'a> Workspace<'a> {
             RowState::ShutIn(view) | RowState::Released(view) => f64::from(view.near) > NEAR_SHARE,
             RowState::Pending | RowState::Skipped => false,
         };
-        let marks = mark_for_split(&self.mesh, &self.radiosity, limits, &is_near);
+        let mut marks = mark_for_split(&self.mesh, &self.radiosity, limits, &is_near);
+        // Leaves that a facing surface stands closer to than they are wide
+        // split too, within what the budget has left.
+        let entries = |k| form_factors.entries(k);
+        let facing = if refine.facing_split {
+            mark_facing(
+                &self.mesh,
+                &self.mesh.leaves(),
+                &entries,
+                refine.max_depth,
+                self.min_area,
+            )
+        } else {
+            Vec::new()
+        };
+        let mut left = room.saturating_sub(3 * marks.split.len());
+        let already: std::collections::HashSet<ElementKey> = marks.split.iter().copied().collect();
+        for k in facing {
+            if already.contains(&k) {
+                continue;
+            }
+            if left < 3 {
+                marks.over_budget += 1;
+                marks.blocked += 1;
+                continue;
+            }
+            left -= 3;
+            marks.split.push(k);
+            marks.facing += 1;
+        }
         self.stats.final_max_difference = marks.max_difference;
         if marks.over_budget > 0 && !self.stats.warnings.iter().any(|w| w.starts_with(BUDGET)) {
             self.stats.warnings.push(format!(

@@ -16,6 +16,9 @@ pub(crate) struct Marks {
     pub blocked: usize,
     /// Of the blocked leaves, those that only the budget kept whole.
     pub over_budget: usize,
+    /// Of the leaves to split, those split because a facing surface stands
+    /// close to them (see `crate::refine::mark_facing`), not by contrast.
+    pub facing: usize,
 }
 
 /// Where to split and how much room there is.

@@ -3,10 +3,12 @@
 
 mod contrast;
 mod criterion;
+mod facing;
 mod sources;
 
 pub(crate) use contrast::Contrast;
 pub(crate) use criterion::{mark_for_split, Marks, SplitLimits};
+pub(crate) use facing::mark_facing;
 pub(crate) use sources::mark_sources;
 
 use crate::error::{Error, Result};
@@ -38,6 +40,12 @@ pub struct RefineSettings {
     /// shadows are refined as bright ones are, without refining every dim
     /// surface; the lower of this and `dim_floor` applies.
     pub near_floor: f64,
+    /// Also split leaves that a surface facing them stands closer to than
+    /// they are wide (a seat over a floor, a bench's back before a wall),
+    /// whatever their radiosities say: a shadow narrower than a leaf leaves
+    /// no mark on neighbour differences (see `crate::refine::mark_facing`).
+    /// On by default.
+    pub facing_split: bool,
     /// Deepest element below a patch.
     pub max_depth: u8,
     /// Smallest element area (square metres); `None` derives it from the scene.
@@ -66,6 +74,7 @@ impl Default for RefineSettings {
             tolerance: 0.05,
             dim_floor: DEFAULT_DIM_FLOOR,
             near_floor: DEFAULT_NEAR_FLOOR,
+            facing_split: true,
             max_depth: 4,
             min_element_area: None,
             max_elements: usize::MAX,

@@ -14,6 +14,7 @@ mod determinism;
 mod emissive_textures;
 mod enclosures;
 mod energy;
+mod facing;
 mod ferren;
 mod hemicube;
 mod hostile_cli;
