@@ -285,8 +285,8 @@ impl<'a> Workspace<'a> {
         if marks.over_budget > 0 && !self.stats.warnings.iter().any(|w| w.starts_with(BUDGET)) {
             self.stats.warnings.push(format!(
                 "{BUDGET}: {} leaves that differ from a neighbour by more than the refinement \
-                 tolerance were left whole (the memory limit is {}; --max-memory or \
-                 --max-elements raise the budget)",
+                 tolerance, or that a facing surface stands close to, were left whole (the \
+                 memory limit is {}; --max-memory or --max-elements raise the budget)",
                 marks.over_budget,
                 memory::gigabytes(self.settings.max_memory)
             ));
