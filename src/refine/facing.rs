@@ -23,10 +23,13 @@ use crate::mesh::{ElementKey, Mesh, MAX_DEPTH};
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
-/// A receiver faces a surface when their normals are within about 45
+/// A receiver faces a surface when their normals are within about 25
 /// degrees of opposite: the cosine of the angle between them is below minus
-/// this.
-pub(crate) const FACING_COS: f64 = 0.7;
+/// this. At 0.7 (45 degrees) the Ferren sculpture's last boards, turned 30
+/// degrees from the right wall they face, split the wall and came out
+/// brighter still (mean per-object error 1.43% -> 1.53%); at 0.9 its error
+/// is as before (1.42%) and the atrium's the same as at 0.7.
+pub(crate) const FACING_COS: f64 = 0.9;
 
 /// A leaf under a facing receiver's foot is split while its bounding radius
 /// exceeds this many times the receiver's distance from its plane: at the
