@@ -97,8 +97,24 @@ fn shaped_gathers_keep_a_closed_room_s_energy_balance_within_a_tenth_of_a_percen
     }
 }
 
+/// The path-traced mean radiosity of each of `scene`'s objects, from
+/// `paths` paths per object with `seed`.
+pub(super) fn reference_means(scene: &Scene, paths: u64, seed: u64) -> Vec<Rgb> {
+    Reference::new(scene)
+        .unwrap()
+        .object_means(&ReferenceSettings {
+            paths,
+            seed,
+            ..ReferenceSettings::default()
+        })
+        .unwrap()
+        .into_iter()
+        .map(|p| p.radiosity)
+        .collect()
+}
+
 /// Worst relative error over the bands of `object`'s mean radiosity.
-fn error(scene: &Scene, sol: &Solution, reference: &[Rgb], object: &str) -> f64 {
+pub(super) fn error(scene: &Scene, sol: &Solution, reference: &[Rgb], object: &str) -> f64 {
     let objects = sol.object_radiosity(scene);
     let i = objects.iter().position(|o| o.name == object).unwrap();
     (0..3)
@@ -109,17 +125,7 @@ fn error(scene: &Scene, sol: &Solution, reference: &[Rgb], object: &str) -> f64 
 #[test]
 fn a_panel_at_the_dark_end_of_a_floor_patch_gathers_the_dark_end() {
     let scene = panel_scene(false);
-    let reference: Vec<Rgb> = Reference::new(&scene)
-        .unwrap()
-        .object_means(&ReferenceSettings {
-            paths: 100_000,
-            seed: 5,
-            ..ReferenceSettings::default()
-        })
-        .unwrap()
-        .into_iter()
-        .map(|p| p.radiosity)
-        .collect();
+    let reference = reference_means(&scene, 100_000, 5);
     let flat = solve(&scene, 0);
     let shaped = solve(&scene, 2);
     assert!(flat.stats().shaped_sources.is_empty());
@@ -281,17 +287,7 @@ fn pier_scene() -> Scene {
 #[test]
 fn a_pier_face_in_a_corner_gathers_the_wall_beside_it() {
     let scene = pier_scene();
-    let reference: Vec<Rgb> = Reference::new(&scene)
-        .unwrap()
-        .object_means(&ReferenceSettings {
-            paths: 100_000,
-            seed: 9,
-            ..ReferenceSettings::default()
-        })
-        .unwrap()
-        .into_iter()
-        .map(|p| p.radiosity)
-        .collect();
+    let reference = reference_means(&scene, 100_000, 9);
     let settings = Settings {
         patch_size: Some(6.0),
         ..Settings::default()
