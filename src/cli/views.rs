@@ -63,11 +63,11 @@ pub fn write_views(
             names.push(path.display().to_string());
             path
         };
-        render::stage_exr(outputs, &image, &write(".exr"))?;
+        let exr = write(".exr");
         if args.hdr {
             render::stage_hdr(outputs, &image, &write(".hdr"))?;
         }
-        render::stage_png(outputs, &image, &write(".png"), stops, tone)?;
+        render::stage_exr_and_png(outputs, &image, &exr, &write(".png"), stops, tone)?;
         if let Some((scale, _)) = plan.false_colour {
             let log = scale == FalseColourScale::Log;
             let (lo, hi) = match false_range {

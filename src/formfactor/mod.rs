@@ -12,6 +12,7 @@ mod point_polygon;
 mod quadrature;
 mod row;
 mod rows;
+mod scratch;
 mod shaft;
 mod sources;
 mod split_rows;

@@ -3,13 +3,13 @@
 use super::contacts::Contacts;
 use super::contacts::Coverage;
 use super::hemicube::{Cull, DeltaTable, Hemicube, HemicubeStats, PartSources, RowRequest};
+use super::scratch::map_items;
 use super::{
     element_samples, eye_lift, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility,
     Occluders, Row, Samples, Sources,
 };
 use crate::mesh::{Cell, ElementKey, Mesh};
 use glam::DVec3;
-use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -120,20 +120,18 @@ pub(crate) fn compute_rows_with(
 ) -> (Vec<Row>, HemicubeStats) {
     let done = AtomicUsize::new(0);
     let scene = RowScene::new(mesh, sources, settings, skips);
-    let results: Vec<(Row, HemicubeStats)> = keys
-        .par_iter()
-        .map_init(
-            || scene.cube(),
-            |(cube, hidden), &key| {
-                let (row, stats) = scene.row(cube, hidden, key);
-                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if n.is_multiple_of(64) || n == keys.len() {
-                    progress(n);
-                }
-                (row.without_zeros(), stats)
-            },
-        )
-        .collect();
+    let results: Vec<(Row, HemicubeStats)> = map_items(
+        keys,
+        || scene.cube(),
+        |_, &key, (cube, hidden)| {
+            let (row, stats) = scene.row(cube, hidden, key);
+            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+            if n.is_multiple_of(64) || n == keys.len() {
+                progress(n);
+            }
+            (row.without_zeros(), stats)
+        },
+    );
     let mut stats = HemicubeStats::default();
     let rows = results
         .into_iter()
@@ -355,23 +353,21 @@ impl<'a> RowScene<'a> {
     ) -> Vec<T> {
         let done = AtomicUsize::new(0);
         progress(0, keys.len());
-        keys.par_iter()
-            .enumerate()
-            .map_init(
-                || self.cube(),
-                |(cube, hidden), (n, &key)| {
-                    let view = self.viewpoint(key);
-                    let out = f(n, &mut |wanted| {
-                        let request = self.request(key, &view, hidden);
-                        cube.part_view(&request, wanted)
-                    });
-                    let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-                    if finished.is_multiple_of(64) || finished == keys.len() {
-                        progress(finished, keys.len());
-                    }
-                    out
-                },
-            )
-            .collect()
+        map_items(
+            keys,
+            || self.cube(),
+            |n, &key, (cube, hidden)| {
+                let view = self.viewpoint(key);
+                let out = f(n, &mut |wanted| {
+                    let request = self.request(key, &view, hidden);
+                    cube.part_view(&request, wanted)
+                });
+                let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+                if finished.is_multiple_of(64) || finished == keys.len() {
+                    progress(finished, keys.len());
+                }
+                out
+            },
+        )
     }
 }

@@ -54,6 +54,6 @@ pub use tonemap::{
     auto_exposure, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET,
 };
 pub use write::{
-    read_hdr_image, stage_exr, stage_hdr, stage_png, stage_rgb8_png, write_exr, write_hdr,
-    write_png, write_rgb8_png,
+    read_hdr_image, stage_exr, stage_exr_and_png, stage_hdr, stage_png, stage_rgb8_png, write_exr,
+    write_hdr, write_png, write_rgb8_png,
 };

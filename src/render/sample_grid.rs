@@ -58,8 +58,13 @@ struct Prepared<'a> {
 /// Renders a validated `mesh` onto the grid of `view`.
 pub(crate) fn render_samples(mesh: &ShadedMesh, view: &View) -> SampleGrid {
     let count = view.width as usize * view.height as usize;
+    // Filled in parallel: at the default 2 x 2 supersampling the grid is
+    // tens of megabytes, and zeroing it (and faulting its pages in) on one
+    // thread left the other idle.
+    let mut colour = Vec::with_capacity(count);
+    colour.par_extend(rayon::iter::repeat_n(Rgb::ZERO, count));
     let mut grid = SampleGrid {
-        colour: vec![Rgb::ZERO; count],
+        colour,
         inverse_depth: vec![0.0; count],
     };
     let view_positions: Vec<DVec3> = mesh
@@ -93,6 +98,9 @@ pub(crate) fn render_samples(mesh: &ShadedMesh, view: &View) -> SampleGrid {
         .par_chunks_mut(band_len)
         .zip(grid.inverse_depth.par_chunks_mut(band_len))
         .enumerate()
+        // A band per task: the bands through the middle of the picture hold
+        // most of the triangles, and runs of bands would leave a worker idle.
+        .with_max_len(1)
         .for_each(|(band, (colour, depth))| {
             let first = band as u32 * BAND_ROWS;
             let rows = first..(first + BAND_ROWS).min(view.height);

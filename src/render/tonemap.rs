@@ -3,6 +3,7 @@
 use super::HdrImage;
 use crate::math::Rgb;
 use crate::{Error, Result};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -120,10 +121,19 @@ pub fn srgb_encode(linear: f64) -> f64 {
 pub fn to_srgb8(img: &HdrImage, exposure_stops: f64, tone: ToneMap) -> image::RgbImage {
     let scale = exposure_stops.exp2();
     let mut out = image::RgbImage::new(img.width, img.height);
-    for (dst, src) in out.pixels_mut().zip(&img.pixels) {
-        let display = tone.apply(*src * scale);
-        dst.0 = display.0.map(|v| (srgb_encode(v) * 255.0).round() as u8);
-    }
+    // A row of pixels per task: the encoding's powers are most of a
+    // preview's cost, and each pixel is its own.
+    let row = 3 * img.width.max(1) as usize;
+    out.par_chunks_mut(row)
+        .zip(img.pixels.par_chunks(img.width.max(1) as usize))
+        .for_each(|(dst, src)| {
+            for (d, s) in dst.chunks_exact_mut(3).zip(src) {
+                let display = tone.apply(*s * scale);
+                for (byte, v) in d.iter_mut().zip(display.0) {
+                    *byte = (srgb_encode(v) * 255.0).round() as u8;
+                }
+            }
+        });
     out
 }
 

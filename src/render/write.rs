@@ -32,6 +32,51 @@ pub fn stage_exr(outputs: &mut Outputs, img: &HdrImage, path: &Path) -> Result<(
     })
 }
 
+/// [`stage_exr`] and [`stage_png`] of one image at once: the two files are
+/// encoded side by side (the EXR's compression and the PNG's tone mapping
+/// and compression are each a sizeable serial step at the end of a solve),
+/// then staged in that order.
+pub fn stage_exr_and_png(
+    outputs: &mut Outputs,
+    img: &HdrImage,
+    exr: &Path,
+    png: &Path,
+    exposure_stops: f64,
+    tone: ToneMap,
+) -> Result<()> {
+    let (exr_bytes, png_bytes) = rayon::join(
+        || {
+            let buffer = to_f32_buffer(img, exr)?;
+            in_memory(
+                exr,
+                &DynamicImage::ImageRgb32F(buffer),
+                ImageFormat::OpenExr,
+            )
+        },
+        || {
+            check_size(img, png)?;
+            let rgb = to_srgb8(img, exposure_stops, tone);
+            in_memory(png, &DynamicImage::ImageRgb8(rgb), ImageFormat::Png)
+        },
+    );
+    let (exr_bytes, png_bytes) = (exr_bytes?, png_bytes?);
+    outputs.stage(exr, |w| {
+        w.write_all(&exr_bytes).map_err(|e| Error::io(exr, e))
+    })?;
+    outputs.stage(png, |w| {
+        w.write_all(&png_bytes).map_err(|e| Error::io(png, e))
+    })
+}
+
+/// `image` encoded as `format`, in memory (`path` names it in errors).
+fn in_memory(path: &Path, image: &DynamicImage, format: ImageFormat) -> Result<Vec<u8>> {
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write_to(&mut bytes, format)
+        .map_err(|e| image_error(path, e))?;
+    Ok(bytes.into_inner())
+}
+
 /// Writes `img` as a Radiance RGBE (`.hdr`) file: linear RGB with an 8-bit
 /// mantissa per channel and a shared exponent; whole or not at all.
 pub fn write_hdr(img: &HdrImage, path: &Path) -> Result<()> {

@@ -381,6 +381,9 @@ impl SourceShapes {
         // too little of the parts for those weights to hold).
         let near: Vec<SmallVec<[NearEntry; 2]>> = leaves
             .par_iter()
+            // Leaves near a lit patch weigh its parts, the rest do nothing:
+            // small tasks keep both workers busy to the end.
+            .with_max_len(16)
             .map(|&k| {
                 let e = &mesh.elements[k];
                 // A receiver that reflects nothing passes no light on: it
