@@ -7,13 +7,14 @@
 //! floor, the floor behind the tall box and the tall box's gap side.
 //!
 //! ```text
-//! cargo run --release --example gap_between_boxes [-- --points] [--no-tall] [--floor-reflectance R]
+//! cargo run --release --example gap_between_boxes [-- --points] [--no-tall] [--floor-reflectance R] [--shaped-sweep]
 //! ```
 //!
 //! The room is 8 m square and 4 m high; patches are at most 3.15 m unless a
 //! setting says otherwise, about as in `many_boxes`. Every material is grey, so one band
 //! is printed. `--no-tall` leaves the tall box out; `--floor-reflectance 0`
-//! takes the floor's light out of the exchange.
+//! takes the floor's light out of the exchange. `--shaped-sweep` compares
+//! the defaults with 0 to 8 shaped gathers instead of the settings above.
 
 use glam::DVec3;
 use radiosity::math::Rgb;
@@ -215,6 +216,29 @@ fn settings() -> Vec<(&'static str, Settings)> {
     ]
 }
 
+/// Defaults with 0, 1, 2, 3, 4 and 8 shaped gathers.
+fn shaped_sweep() -> Vec<(&'static str, Settings)> {
+    [
+        ("0 shaped", 0),
+        ("1 shaped", 1),
+        ("2 shaped", 2),
+        ("3 shaped", 3),
+        ("4 shaped", 4),
+        ("8 shaped", 8),
+    ]
+    .into_iter()
+    .map(|(name, n)| {
+        (
+            name,
+            Settings {
+                shaped_gathers: Some(n),
+                ..with_patches(PATCH)
+            },
+        )
+    })
+    .collect()
+}
+
 /// Points on the low box's gap side, the gap's floor, the floor behind the
 /// tall box and the tall box's gap side, by surface index in `scene`'s
 /// order (floor 0; the low box's faces 7 to 11; the tall box's 12 to 16).
@@ -272,7 +296,11 @@ fn main() {
         seed,
         ..ReferenceSettings::default()
     };
-    let settings = settings();
+    let settings = if args.iter().any(|a| a == "--shaped-sweep") {
+        shaped_sweep()
+    } else {
+        settings()
+    };
     let solutions: Vec<_> = settings
         .iter()
         .map(|(_, s)| radiosity::solve(&scene, s, &|_| {}).unwrap())

@@ -228,7 +228,8 @@ pub struct SolveStats {
     /// their parts because their elements differ.
     pub shaped_sources: Vec<usize>,
     /// Per shaped gather, how many times the patch radiosities were solved
-    /// again for what it changed (see `crate::solve::source_shape`).
+    /// again for what it changed and its ratios taken again from the new
+    /// values (see `crate::solve::source_shape`).
     pub shaped_corrections: Vec<usize>,
     /// Per shaped gather, how many receivers drew a hemi-cube again to see
     /// a near patch part by part, something hiding part of it from them.

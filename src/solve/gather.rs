@@ -1,7 +1,7 @@
 //! One gather from patches to leaf elements.
 
 use super::balance::Balance;
-use super::source_shape::{EntryFactors, PartViews, SourceShapes};
+use super::source_shape::{EntryFactors, NearWeights, PartViews, SourceShapes};
 use super::Radiosity;
 use crate::formfactor::{FormFactors, RowView};
 use crate::math::Rgb;
@@ -88,18 +88,31 @@ pub(crate) struct GatherOptions<'a> {
     pub factors: Option<&'a EntryFactors>,
 }
 
-/// The factors a gather with `options` puts on the patch radiosities of
-/// `shapes` (see [`SourceShapes::entry_factors`]); `None` when no patch is
-/// unevenly lit. Where `views` is given, receivers whose rows see too little
-/// of a near patch's parts weigh them by what their hemi-cubes, drawn in the
-/// scene it builds (only when one is needed), show of each.
-pub(crate) fn shaped_factors<'s>(
+/// What the near receivers of `shapes` weigh of them (see
+/// [`SourceShapes::near_weights`]); `None` when no patch is unevenly lit.
+/// Where `views` is given, receivers whose rows see too little of a near
+/// patch's parts weigh them by what their hemi-cubes, drawn in the scene it
+/// builds (only when one is needed), show of each.
+pub(crate) fn shaped_weights<'s>(
     mesh: &'s Mesh,
     form_factors: &FormFactors,
     shapes: &SourceShapes,
-    options: &GatherOptions<'_>,
     views: Option<&PartViews<'_, 's>>,
-) -> Option<EntryFactors> {
+) -> Option<NearWeights> {
+    shapes.near_weights(mesh, form_factors, &mesh.leaves(), views)
+}
+
+/// The factors a gather with `options` puts on the patch radiosities of
+/// `shapes`, by what their near receivers weigh (`near`, see
+/// [`shaped_weights`]) and the parts' present values (see
+/// [`SourceShapes::factors`]).
+pub(crate) fn shaped_factors(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    shapes: &SourceShapes,
+    options: &GatherOptions<'_>,
+    near: &NearWeights,
+) -> EntryFactors {
     let leaves: Vec<ElementKey> = mesh.leaves();
     let balance = options.balance.filter(|x| !x.seen.is_empty());
     // As the gather scales each row: a receiver that takes no part in the
@@ -112,7 +125,7 @@ pub(crate) fn shaped_factors<'s>(
             options.balance.map_or(1.0, |x| x.receiver(i))
         }
     };
-    shapes.entry_factors(mesh, form_factors, &leaves, row_scale, views)
+    shapes.factors(mesh, form_factors, &leaves, row_scale, near)
 }
 
 /// [`gather`] with `options`.

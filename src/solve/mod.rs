@@ -22,7 +22,7 @@ pub(crate) use bounces::gather_bounces;
 pub use bounces::MAX_BOUNCES;
 pub use direct::DirectLight;
 pub use gather::{gather, GatherTotals};
-pub(crate) use gather::{gather_with, shaped_factors, GatherOptions};
+pub(crate) use gather::{gather_with, shaped_factors, shaped_weights, GatherOptions};
 pub use gauss_seidel::{gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION};
 pub(crate) use gauss_seidel::{gauss_seidel_grey, gauss_seidel_with_source, refuse_unbounded_row};
 pub use progressive::{ProgressiveSettings, SolverKind};

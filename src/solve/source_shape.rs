@@ -38,9 +38,14 @@
 //! Moving light between receivers that reflect differently changes what
 //! they pass on, so after each shaped gather the gathering solver solves the
 //! patch system again with what the shapes changed in each patch's mean as
-//! extra emission, and gathers again with the same factors (see
+//! extra emission, and gathers again (see
 //! `crate::pipeline`'s gathering solver): the result balances its light like
-//! a plain gather. A receiver's ratio fades out towards the edge of its
+//! a plain gather. Each of those corrections also takes the ratios again
+//! from the parts' new values, with the weights found the first time (see
+//! [`SourceShapes::refresh`]): the first ratios came from a plain gather, in
+//! which the dark side of a patch near its receivers was lit by the means
+//! of the patches it sees, too brightly where two surfaces face each other
+//! across a narrow gap. A receiver's ratio fades out towards the edge of its
 //! reach, and the least important ones are left at the mean (see
 //! [`SKIPPED_SHARE`]), both without a step. One shaped gather is the
 //! gathering solver's default ([`crate::Settings::shaped_gathers`]).
@@ -62,8 +67,6 @@ pub(crate) struct EntryFactors {
     /// Per patch, the factor of every other receiver's entry (1 for an even
     /// patch, and for every patch on a receiver that reflects nothing).
     pub patch: Vec<Rgb>,
-    /// How many receivers drew a hemi-cube again to see a patch part by part.
-    pub views: usize,
 }
 
 impl EntryFactors {
@@ -89,6 +92,47 @@ impl EntryFactors {
     }
 }
 
+/// Parts of a shaped patch (indices into [`Shaped::parts`]) with weights,
+/// kept in single precision: a receiver near many patches holds thousands.
+type PartWeights = Vec<(u32, f32)>;
+
+/// What the near receivers of the shaped patches weigh (see
+/// [`SourceShapes::near_weights`]): geometry alone, so that it holds while
+/// the parts' values change (see [`SourceShapes::refresh`]).
+#[derive(Debug)]
+pub(crate) struct NearWeights {
+    /// Per leaf, its entries to shaped patches it is near, in row order.
+    near: Vec<SmallVec<[NearEntry; 2]>>,
+    /// How many receivers drew a hemi-cube again to see a patch part by part.
+    views: usize,
+}
+
+impl NearWeights {
+    /// How many receivers drew a hemi-cube again to see a patch part by part.
+    pub(crate) fn views(&self) -> usize {
+        self.views
+    }
+}
+
+impl EntryFactors {
+    /// The largest difference between a factor of `self` and the same
+    /// factor of `other` (both from the same [`NearWeights`]), in any band.
+    pub(crate) fn largest_change(&self, other: &EntryFactors) -> f64 {
+        let near = self
+            .near
+            .iter()
+            .zip(&other.near)
+            .flat_map(|(a, b)| a.iter().zip(b))
+            .map(|(a, b)| (a.1 - b.1).abs().max_band());
+        let patch = self
+            .patch
+            .iter()
+            .zip(&other.patch)
+            .map(|(a, b)| (*a - *b).abs().max_band());
+        near.chain(patch).fold(0.0, f64::max)
+    }
+}
+
 /// How a shaped gather draws the hemi-cubes of receivers that look at a
 /// patch part by part (see [`SEEN_SHARE`]).
 pub(crate) struct PartViews<'a, 's> {
@@ -99,14 +143,17 @@ pub(crate) struct PartViews<'a, 's> {
 }
 
 /// An entry of a receiver's row to a shaped patch it is near.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct NearEntry {
     /// Its index in the row.
     index: u32,
     /// How much of its ratio the receiver takes (see [`SourceShapes::important`]).
     weight: f64,
-    /// The ratio by the parts' unoccluded form factors.
-    ratio: Rgb,
+    /// The parts it weighs, each with its weight: by their unoccluded form
+    /// factors, or by what its hemi-cube shows of them where it looked (see
+    /// [`SourceShapes::near_weights`]). Its ratio is their weighted mean
+    /// over the patch's mean, whatever the parts' values.
+    parts: PartWeights,
     /// Whether the receiver's row sees too little of the parts for those
     /// weights to hold, by enough to matter: its ratio is then taken from
     /// what its hemi-cube shows of each part (see [`SEEN_SHARE`]).
@@ -257,6 +304,10 @@ struct Shaped {
     parts: Vec<Part>,
     /// How many of `parts` form the cut.
     top: usize,
+    /// Per part, its node of the patch's quadtree.
+    keys: Vec<ElementKey>,
+    /// The patch.
+    patch: u32,
 }
 
 /// A node of a shaped patch's quadtree as a source.
@@ -301,7 +352,12 @@ impl SourceShapes {
             let Some(tree) = PartTree::of(mesh, form_factors, radiosity, &parts) else {
                 continue;
             };
-            let PartTree { parts, top, mean } = tree;
+            let PartTree {
+                parts,
+                top,
+                keys,
+                mean,
+            } = tree;
             let uneven = (0..3).any(|band| {
                 let (lo, hi) = parts
                     .iter()
@@ -314,28 +370,18 @@ impl SourceShapes {
             if !uneven {
                 continue;
             }
-            let mut swing = Rgb::ZERO;
-            for part in &parts {
-                for band in 0..3 {
-                    swing.0[band] = swing.0[band].max((part.value[band] - mean[band]).abs());
-                }
-            }
+            let swing = swing_of(&parts, mean);
             let centre = patch.centroid;
             let radius = parts[..top]
                 .iter()
                 .flat_map(|part| part.source.corners().iter())
                 .map(|v| (*v - centre).length())
                 .fold(0.0, f64::max);
-            let mut sent_ratio = Rgb::ONE;
-            if !closed {
-                if let Some(sent) = sent_mean(mesh, form_factors, radiosity, p as u32, &reflects) {
-                    for band in 0..3 {
-                        if mean[band] > 0.0 {
-                            sent_ratio.0[band] = sent[band] / mean[band];
-                        }
-                    }
-                }
-            }
+            let sent_ratio = if closed {
+                Rgb::ONE
+            } else {
+                sent_ratio(mesh, form_factors, radiosity, p as u32, &reflects, mean)
+            };
             slot[p] = shaped.len() as u32;
             shaped.push(Shaped {
                 centre,
@@ -346,9 +392,58 @@ impl SourceShapes {
                 sent: sent_ratio,
                 parts,
                 top,
+                keys,
+                patch: p as u32,
             });
         }
         SourceShapes { slot, shaped }
+    }
+
+    /// Takes the parts' values, the patches' means and what the patches send
+    /// anew from `radiosity` (a later gather's), keeping the parts and which
+    /// patches are shaped: what receivers weigh (see [`NearWeights`]) still
+    /// holds, and [`Self::factors`] then gives the ratios of the new values.
+    /// A shaped gather's receivers took their ratios from the values of the
+    /// gather before, in which the dark side of a patch near them was lit by
+    /// the means of the patches it sees; each refresh passes one more bounce
+    /// of the detail between near patches.
+    pub(crate) fn refresh(
+        &mut self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        radiosity: &Radiosity,
+        closed: bool,
+    ) {
+        let reflects: Vec<bool> = (0..mesh.patches.len())
+            .map(|p| mesh.patch_reflectance(p as u32).max_band() > 0.0)
+            .collect();
+        self.shaped.par_iter_mut().for_each(|shaped| {
+            let (mut area, mut power) = (0.0, Rgb::ZERO);
+            for (n, (part, &k)) in shaped.parts.iter_mut().zip(&shaped.keys).enumerate() {
+                let (a, p) = exposed_power(mesh, form_factors, radiosity, k);
+                if a > 0.0 {
+                    part.value = p * (1.0 / a);
+                }
+                if n < shaped.top {
+                    area += a;
+                    power += p;
+                }
+            }
+            if area > 0.0 {
+                shaped.mean = power * (1.0 / area);
+            }
+            shaped.swing = swing_of(&shaped.parts, shaped.mean);
+            if !closed {
+                shaped.sent = sent_ratio(
+                    mesh,
+                    form_factors,
+                    radiosity,
+                    shaped.patch,
+                    &reflects,
+                    shaped.mean,
+                );
+            }
+        });
     }
 
     /// How many patches are unevenly lit.
@@ -356,14 +451,10 @@ impl SourceShapes {
         self.shaped.len()
     }
 
-    /// The factors on the patch radiosities that the rows of `leaves` gather
-    /// (see [`EntryFactors`]), each patch's corrected (see [`Correction`])
-    /// so that its receivers
-    /// (leaf `n`'s row scaled by `row_scale(n)`, as the gather scales it)
-    /// together gather from it, per band, what they gathered from its mean
-    /// times `Shaped::sent` (1 in a closed scene, where the correction then
-    /// moves a patch's light between receivers and neither creates nor
-    /// loses any). `None` when no patch is unevenly lit.
+    /// The factors on the patch radiosities that the rows of `leaves` gather:
+    /// [`Self::near_weights`], then [`Self::factors`]. `None` when no patch
+    /// is unevenly lit.
+    #[cfg(test)]
     pub(crate) fn entry_factors<'s>(
         &self,
         mesh: &Mesh,
@@ -372,14 +463,28 @@ impl SourceShapes {
         row_scale: impl Fn(usize) -> f64,
         views: Option<&PartViews<'_, 's>>,
     ) -> Option<EntryFactors> {
+        let near = self.near_weights(mesh, form_factors, leaves, views)?;
+        Some(self.factors(mesh, form_factors, leaves, row_scale, &near))
+    }
+
+    /// What each of `leaves` weighs of the shaped patches it is near: per
+    /// important entry of its row (see [`Self::important`]), the parts and
+    /// their unoccluded form factors, or, where its row sees too little of
+    /// them and that could matter (and `views` is given), the share of each
+    /// that its hemi-cube, drawn with the patch part by part, shows (see
+    /// [`SEEN_SHARE`], [`VIEW_SHARE`]). `None` when no patch is unevenly lit.
+    pub(crate) fn near_weights<'s>(
+        &self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        leaves: &[ElementKey],
+        views: Option<&PartViews<'_, 's>>,
+    ) -> Option<NearWeights> {
         if self.shaped.is_empty() {
             return None;
         }
         let can_look = views.is_some();
-        // Per leaf, its important near entries: (index in the row, weight of
-        // the ratio, the ratio by unoccluded weights, whether its row sees
-        // too little of the parts for those weights to hold).
-        let near: Vec<SmallVec<[NearEntry; 2]>> = leaves
+        let mut near: Vec<SmallVec<[NearEntry; 2]>> = leaves
             .par_iter()
             // Leaves near a lit patch weigh its parts, the rest do nothing:
             // small tasks keep both workers busy to the end.
@@ -400,7 +505,7 @@ impl SourceShapes {
                     .into_iter()
                     .filter_map(|(i, weight)| {
                         let (j, f) = entries[i as usize];
-                        let (r, unoccluded) = self.ratio(j, e.centroid, normal)?;
+                        let (parts, unoccluded) = self.weights(j, e.centroid, normal)?;
                         let f = f64::from(f);
                         let hidden = 1.0 - f / unoccluded;
                         // What weighing the hidden parts could change at
@@ -413,7 +518,7 @@ impl SourceShapes {
                         Some(NearEntry {
                             index: i,
                             weight,
-                            ratio: r,
+                            parts,
                             look: look && can_look,
                             hidden: hidden.clamp(0.0, 1.0),
                         })
@@ -421,48 +526,62 @@ impl SourceShapes {
                     .collect()
             })
             .collect();
-        let (seen, view_count) = match views {
-            Some(scene) => self.seen_ratios(mesh, form_factors, leaves, &near, scene),
+        let (seen, views) = match views {
+            Some(scene) => self.seen_weights(mesh, form_factors, leaves, &near, scene),
             None => (Vec::new(), 0),
         };
-        let mut seen = seen.into_iter().peekable();
+        for (n, m, by_view) in seen {
+            if let Some(parts) = by_view {
+                // Weighed by what it sees: sure.
+                let entry = &mut near[n][m];
+                entry.parts = parts;
+                entry.hidden = 0.0;
+            }
+        }
+        Some(NearWeights { near, views })
+    }
+
+    /// The factors on the patch radiosities that the rows of `leaves` gather
+    /// (see [`EntryFactors`]), by what they weigh of the shaped patches
+    /// (`near`, from [`Self::near_weights`]) and the parts' present values,
+    /// each patch's corrected (see [`Correction`])
+    /// so that its receivers
+    /// (leaf `n`'s row scaled by `row_scale(n)`, as the gather scales it)
+    /// together gather from it, per band, what they gathered from its mean
+    /// times `Shaped::sent` (1 in a closed scene, where the correction then
+    /// moves a patch's light between receivers and neither creates nor
+    /// loses any).
+    pub(crate) fn factors(
+        &self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        leaves: &[ElementKey],
+        row_scale: impl Fn(usize) -> f64,
+        near: &NearWeights,
+    ) -> EntryFactors {
         // Per near entry, its factor, and how unsure its ratio is (see
         // `unsure` below).
-        let mut factors: Vec<SmallVec<[(u32, Rgb); 2]>> = Vec::with_capacity(leaves.len());
-        let mut unsure: Vec<SmallVec<[f64; 2]>> = Vec::with_capacity(leaves.len());
-        for (n, near) in near.iter().enumerate() {
-            let mut row_factors = SmallVec::new();
-            let mut row_unsure = SmallVec::new();
-            for (
-                m,
-                &NearEntry {
-                    index: i,
-                    weight,
-                    ratio: r,
-                    look,
-                    hidden,
-                },
-            ) in near.iter().enumerate()
-            {
-                let (mut r, mut hidden) = (r, hidden);
-                if look {
-                    if let Some(&(_, _, by_view)) = seen.peek().filter(|x| x.0 == n && x.1 == m) {
-                        seen.next();
-                        if let Some(v) = by_view {
-                            // Weighed by what it sees: sure.
-                            r = v;
-                            hidden = 0.0;
-                        }
-                    }
+        type RowFactors = SmallVec<[(u32, Rgb); 2]>;
+        let (mut factors, unsure): (Vec<RowFactors>, Vec<SmallVec<[f64; 2]>>) = leaves
+            .par_iter()
+            .zip(&near.near)
+            .map(|(&k, near)| {
+                let entries = form_factors.entries(k);
+                let mut row_factors = SmallVec::new();
+                let mut row_unsure = SmallVec::new();
+                for entry in near {
+                    let j = entries[entry.index as usize].0;
+                    let shaped = &self.shaped[self.slot[j as usize] as usize];
+                    let r = shaped.ratio_from(&entry.parts).unwrap_or(Rgb::ONE);
+                    let weight = entry.weight;
+                    row_factors.push((entry.index, Rgb::ONE + (r - Rgb::ONE) * weight));
+                    // The share of the mean it keeps is as unsure as a
+                    // far receiver's.
+                    row_unsure.push(weight * entry.hidden + (1.0 - weight));
                 }
-                row_factors.push((i, Rgb::ONE + (r - Rgb::ONE) * weight));
-                // The share of the mean it keeps is as unsure as a far
-                // receiver's.
-                row_unsure.push(weight * hidden + (1.0 - weight));
-            }
-            factors.push(row_factors);
-            unsure.push(row_unsure);
-        }
+                (row_factors, row_unsure)
+            })
+            .unzip();
         // Per shaped patch, what its receivers gather from it with and
         // without the ratios, and with the ratios times how unsure each
         // is, summed in leaf order (the same bits at any thread count).
@@ -518,11 +637,10 @@ impl SourceShapes {
                 patch[p] = corrections[*s as usize].apply(Rgb::ONE, 1.0);
             }
         }
-        Some(EntryFactors {
+        EntryFactors {
             near: factors,
             patch,
-            views: view_count,
-        })
+        }
     }
 
     /// Per band, what a row of `entries` gathers from the means of shaped
@@ -594,39 +712,51 @@ impl SourceShapes {
     /// of patch `j` to the patch's mean, weighing the parts by their
     /// unoccluded form factors, and the sum of those weights; `None` when the
     /// patch is even or the receiver sees none of the parts.
-    #[inline]
+    #[cfg(test)]
     fn ratio(&self, j: u32, eye: DVec3, normal: DVec3) -> Option<(Rgb, f64)> {
+        let (parts, weight) = self.weights(j, eye, normal)?;
+        let shaped = &self.shaped[self.slot[j as usize] as usize];
+        Some((shaped.ratio_from(&parts)?, weight))
+    }
+
+    /// The parts of patch `j` a receiver at `eye` facing `normal` weighs,
+    /// each by its unoccluded form factor times its exposed share, and the
+    /// sum of those weights; `None` when the patch is even or the receiver
+    /// sees none of the parts.
+    fn weights(&self, j: u32, eye: DVec3, normal: DVec3) -> Option<(PartWeights, f64)> {
         let s = *self.slot.get(j as usize)?;
         if s == u32::MAX {
             return None;
         }
         let shaped = &self.shaped[s as usize];
-        let (mut weight, mut seen) = (0.0, Rgb::ZERO);
-        for (part, w) in shaped.weighed_parts(eye, normal) {
-            let part = &shaped.parts[part as usize];
-            let w = w * part.share;
-            weight += w;
-            seen += part.value * w;
-        }
-        Some((shaped.ratio_of(seen, weight)?, weight))
+        let mut weight = 0.0;
+        let parts: PartWeights = shaped
+            .weighed_parts(eye, normal)
+            .into_iter()
+            .map(|(part, w)| {
+                let w = w * shaped.parts[part as usize].share;
+                weight += w;
+                (part, w as f32)
+            })
+            .collect();
+        (weight > 0.0).then_some((parts, weight))
     }
 
     /// For the near entries of `near` (per leaf of `leaves`) whose rows see
-    /// too little of the parts, the ratio of what the leaf sees of the patch
-    /// to its mean, each part weighed by its unoccluded form factor times
-    /// the share of its pixels that the leaf's hemi-cube, drawn with the
-    /// patch part by part (see [`RowScene::with_part_views`]), shows:
-    /// (leaf, index in its near entries, ratio), in leaf order; the ratio is
-    /// `None` where no pixel shows a part. With the number of hemi-cubes
-    /// drawn.
-    fn seen_ratios<'s>(
+    /// too little of the parts, the parts' weights by what the leaf sees:
+    /// each part's unoccluded form factor times the share of its pixels that
+    /// the leaf's hemi-cube, drawn with the patch part by part (see
+    /// [`RowScene::with_part_views`]), shows: (leaf, index in its near
+    /// entries, weights), in leaf order; the weights are `None` where no
+    /// pixel shows a part. With the number of hemi-cubes drawn.
+    fn seen_weights<'s>(
         &self,
         mesh: &Mesh,
         form_factors: &FormFactors,
         leaves: &[ElementKey],
         near: &[SmallVec<[NearEntry; 2]>],
         views: &PartViews<'_, 's>,
-    ) -> (Vec<(usize, usize, Option<Rgb>)>, usize) {
+    ) -> (Vec<(usize, usize, Option<PartWeights>)>, usize) {
         let which: Vec<usize> = (0..leaves.len())
             .filter(|&n| near[n].iter().any(|x| x.look))
             .collect();
@@ -664,11 +794,11 @@ impl SourceShapes {
                 .collect();
             let shown = view(&wanted);
             let mut at = 0;
-            let mut out: SmallVec<[(usize, usize, Option<Rgb>); 2]> = SmallVec::new();
+            let mut out: SmallVec<[(usize, usize, Option<PartWeights>); 2]> = SmallVec::new();
             for (m, _, shaped, parts) in &drawn {
                 let shown = &shown[at..at + parts.len()];
                 at += parts.len();
-                out.push((n, *m, shaped.seen_ratio(parts, shown)));
+                out.push((n, *m, shaped.seen_weights(parts, shown)));
             }
             out
         });
@@ -699,6 +829,18 @@ impl Shaped {
         out
     }
 
+    /// Per band, the mean of the parts' values by `weights` over the
+    /// patch's mean; `None` when the weights are 0.
+    fn ratio_from(&self, weights: &[(u32, f32)]) -> Option<Rgb> {
+        let (mut weight, mut seen) = (0.0, Rgb::ZERO);
+        for &(p, w) in weights {
+            let w = f64::from(w);
+            weight += w;
+            seen += self.parts[p as usize].value * w;
+        }
+        self.ratio_of(seen, weight)
+    }
+
     /// Per band, `seen` over `weight` (a weighted sum of the parts' values
     /// and the sum of its weights) as a ratio to the mean; `None` when the
     /// weights are 0.
@@ -715,7 +857,7 @@ impl Shaped {
         Some(ratio)
     }
 
-    /// The ratio of what a receiver sees to the mean, `parts` being the
+    /// The weights of the parts by what a receiver sees, `parts` being the
     /// parts it weighs with their unoccluded form factors and `shown`, per
     /// part, the delta form factors of the pixels it won and of all it
     /// covered in the receiver's hemi-cube drawn with those parts. Each part
@@ -723,8 +865,8 @@ impl Shaped {
     /// stands on the surface hides its covered share in the pixels too, so
     /// that share is not counted twice). A part too small to cover a pixel
     /// centre takes the share of all the parts' pixels won, and its exposed
-    /// share.
-    fn seen_ratio(&self, parts: &[(u32, f64)], shown: &[(f64, f64)]) -> Option<Rgb> {
+    /// share. `None` when no pixel shows a part.
+    fn seen_weights(&self, parts: &[(u32, f64)], shown: &[(f64, f64)]) -> Option<PartWeights> {
         let (won, covered) = shown
             .iter()
             .fold((0.0, 0.0), |(w, c), s| (w + s.0, c + s.1));
@@ -732,18 +874,21 @@ impl Shaped {
             return None;
         }
         let overall = (won / covered).min(1.0);
-        let (mut weight, mut seen) = (0.0, Rgb::ZERO);
-        for (&(p, form_factor), &(won, covered)) in parts.iter().zip(shown) {
-            let part = &self.parts[p as usize];
-            let w = if covered > 0.0 {
-                form_factor * (won / covered).min(1.0)
-            } else {
-                form_factor * part.share * overall
-            };
-            weight += w;
-            seen += part.value * w;
-        }
-        self.ratio_of(seen, weight)
+        let mut weight = 0.0;
+        let weights: PartWeights = parts
+            .iter()
+            .zip(shown)
+            .map(|(&(p, form_factor), &(won, covered))| {
+                let w = if covered > 0.0 {
+                    form_factor * (won / covered).min(1.0)
+                } else {
+                    form_factor * self.parts[p as usize].share * overall
+                };
+                weight += w;
+                (p, w as f32)
+            })
+            .collect();
+        (weight > 0.0).then_some(weights)
     }
 }
 
@@ -775,6 +920,7 @@ pub(crate) const OPEN: f64 = 0.5;
 struct PartTree {
     parts: Vec<Part>,
     top: usize,
+    keys: Vec<ElementKey>,
     mean: Rgb,
 }
 
@@ -804,6 +950,7 @@ impl PartTree {
             Some((part, area))
         };
         let mut parts = Vec::new();
+        let mut keys = Vec::new();
         let mut below: Vec<(u32, ElementKey)> = Vec::new();
         let (mut area, mut power) = (0.0, Rgb::ZERO);
         for &k in cut {
@@ -812,6 +959,7 @@ impl PartTree {
                 power += p.value * a;
                 below.push((parts.len() as u32, k));
                 parts.push(p);
+                keys.push(k);
             }
         }
         let top = parts.len();
@@ -828,6 +976,7 @@ impl PartTree {
                 if let Some((p, _)) = part(c) {
                     below.push((parts.len() as u32, c));
                     parts.push(p);
+                    keys.push(c);
                 }
             }
             parts[i as usize].children = start..parts.len() as u32;
@@ -835,6 +984,7 @@ impl PartTree {
         Some(PartTree {
             parts,
             top,
+            keys,
             mean: power * (1.0 / area),
         })
     }
@@ -865,6 +1015,38 @@ fn cut(mesh: &Mesh, roots: &[ElementKey]) -> Option<Vec<ElementKey>> {
         }
         parts = next;
     }
+}
+
+/// Per band, `mean` times the parts' largest relative departure from it.
+fn swing_of(parts: &[Part], mean: Rgb) -> Rgb {
+    let mut swing = Rgb::ZERO;
+    for part in parts {
+        for band in 0..3 {
+            swing.0[band] = swing.0[band].max((part.value[band] - mean[band]).abs());
+        }
+    }
+    swing
+}
+
+/// Per band, what patch `p` sends to reflecting surfaces (see [`sent_mean`])
+/// over its `mean`; 1 where either is unknown.
+fn sent_ratio(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
+    radiosity: &Radiosity,
+    p: u32,
+    reflects: &[bool],
+    mean: Rgb,
+) -> Rgb {
+    let mut ratio = Rgb::ONE;
+    if let Some(sent) = sent_mean(mesh, form_factors, radiosity, p, reflects) {
+        for band in 0..3 {
+            if mean[band] > 0.0 {
+                ratio.0[band] = sent[band] / mean[band];
+            }
+        }
+    }
+    ratio
 }
 
 /// The radiosity of patch `p`'s exposed leaves weighted by what each sends
@@ -1120,7 +1302,7 @@ mod tests {
         let near = vec![SmallVec::from_iter([NearEntry {
             index: i,
             weight: 1.0,
-            ratio: all,
+            parts: Vec::new(),
             look: true,
             hidden: 0.5,
         }])];
@@ -1129,9 +1311,14 @@ mod tests {
             scene: &scene,
             progress: &|_, _| {},
         };
-        let (ratios, views) = shapes.seen_ratios(mesh, &sol.form_factors, &[shelf], &near, &views);
+        let (weights, views) =
+            shapes.seen_weights(mesh, &sol.form_factors, &[shelf], &near, &views);
         assert_eq!(views, 1);
-        let by_view = ratios[0].2.expect("the shelf sees part of the floor");
+        let by_view = weights[0]
+            .2
+            .as_ref()
+            .expect("the shelf sees part of the floor");
+        let by_view = shaped.ratio_from(by_view).unwrap();
         let (all, in_sight, by_view) = (all[0], in_sight[0], by_view[0]);
         eprintln!("every part {all:.4}, in sight {in_sight:.4}, by the hemi-cube {by_view:.4}");
         assert!(
@@ -1211,6 +1398,77 @@ mod tests {
         let c = Correction::of(Rgb::splat(6.0), Rgb::splat(with), Rgb::ZERO);
         assert_eq!(c.unsure, Rgb::ONE);
         assert!((c.apply(r[0], 0.0)[0] - 0.5 * 6.0 / with).abs() < 1e-15);
+    }
+
+    /// Refreshing a patch's values from another radiosity gives what
+    /// building the shapes from that radiosity gives: the parts' values,
+    /// the means, the swings and what the patches send, while what the
+    /// receivers weigh stays as it was.
+    #[test]
+    fn a_refresh_takes_the_values_a_new_build_would() {
+        let sol = solved();
+        let mut shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity, false);
+        assert!(shapes.len() >= 1);
+        // Another radiosity: every leaf brighter the farther east it lies.
+        let mut other = sol.radiosity.clone();
+        for k in sol.mesh.leaves() {
+            let x = sol.mesh.elements[k].centroid.x;
+            other.set_element(k, sol.radiosity.element(k) * (1.0 + 0.25 * x));
+        }
+        shapes.refresh(&sol.mesh, &sol.form_factors, &other, false);
+        let fresh = SourceShapes::new(&sol.mesh, &sol.form_factors, &other, false);
+        // The patches shaped before are compared (the new values may make
+        // others uneven too, which a refresh does not add).
+        let close = |a: Rgb, b: Rgb| (a - b).abs().max_band() <= 1e-12 * b.max_band().max(1e-300);
+        for (p, &s) in shapes.slot.iter().enumerate() {
+            if s == u32::MAX {
+                continue;
+            }
+            assert!(fresh.slot[p] != u32::MAX, "patch {p} is still uneven");
+            let a = &shapes.shaped[s as usize];
+            let b = &fresh.shaped[fresh.slot[p] as usize];
+            assert!(
+                close(a.mean, b.mean),
+                "mean {:?} against {:?}",
+                a.mean,
+                b.mean
+            );
+            assert!(
+                close(a.swing, b.swing),
+                "swing {:?} against {:?}",
+                a.swing,
+                b.swing
+            );
+            assert!(
+                close(a.sent, b.sent),
+                "sent {:?} against {:?}",
+                a.sent,
+                b.sent
+            );
+            assert_eq!(a.parts.len(), b.parts.len());
+            for (p, q) in a.parts.iter().zip(&b.parts) {
+                assert!(
+                    close(p.value, q.value),
+                    "part {:?} against {:?}",
+                    p.value,
+                    q.value
+                );
+            }
+        }
+        // The scaling moved the patch's light east: a ratio changed.
+        let unchanged = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity, false);
+        let moved = shapes
+            .shaped
+            .iter()
+            .zip(&unchanged.shaped)
+            .flat_map(|(a, b)| {
+                a.parts
+                    .iter()
+                    .zip(&b.parts)
+                    .map(|(p, q)| (p.value, q.value))
+            })
+            .any(|(p, q)| (p[0] / q[0] - 1.0).abs() > 0.01);
+        assert!(moved, "the refresh took the new values");
     }
 
     #[test]
