@@ -93,8 +93,18 @@ impl EntryFactors {
 }
 
 /// Parts of a shaped patch (indices into [`Shaped::parts`]) with weights,
-/// kept in single precision: a receiver near many patches holds thousands.
+/// in single precision: a receiver near many patches holds thousands.
 type PartWeights = Vec<(u32, f32)>;
+
+/// Most part weights [`NearWeights`] keeps (8 bytes each: 256 MB); past
+/// them, in leaf order, receivers weigh the parts again each time the
+/// ratios are taken (the same weights, bit for bit, for more CPU). Kept
+/// whole, the 100 000-triangle atrium's took about 1.3 GB; the Cornell
+/// box's fit.
+pub(crate) const MAX_KEPT_WEIGHTS: usize = 32 << 20;
+
+/// Leaves weighed together before [`MAX_KEPT_WEIGHTS`] is checked again.
+const WEIGH_BATCH: usize = 4096;
 
 /// What the near receivers of the shaped patches weigh (see
 /// [`SourceShapes::near_weights`]): geometry alone, so that it holds while
@@ -152,8 +162,11 @@ struct NearEntry {
     /// The parts it weighs, each with its weight: by their unoccluded form
     /// factors, or by what its hemi-cube shows of them where it looked (see
     /// [`SourceShapes::near_weights`]). Its ratio is their weighted mean
-    /// over the patch's mean, whatever the parts' values.
+    /// over the patch's mean, whatever the parts' values. Empty when not
+    /// `kept`: they are then weighed again from the geometry each time.
     parts: PartWeights,
+    /// Whether `parts` holds the weights (see [`MAX_KEPT_WEIGHTS`]).
+    kept: bool,
     /// Whether the receiver's row sees too little of the parts for those
     /// weights to hold, by enough to matter: its ratio is then taken from
     /// what its hemi-cube shows of each part (see [`SEEN_SHARE`]).
@@ -480,52 +493,43 @@ impl SourceShapes {
         leaves: &[ElementKey],
         views: Option<&PartViews<'_, 's>>,
     ) -> Option<NearWeights> {
+        self.near_weights_within(mesh, form_factors, leaves, views, MAX_KEPT_WEIGHTS)
+    }
+
+    /// [`Self::near_weights`], keeping at most about `budget` part weights.
+    fn near_weights_within<'s>(
+        &self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        leaves: &[ElementKey],
+        views: Option<&PartViews<'_, 's>>,
+        budget: usize,
+    ) -> Option<NearWeights> {
         if self.shaped.is_empty() {
             return None;
         }
         let can_look = views.is_some();
-        let mut near: Vec<SmallVec<[NearEntry; 2]>> = leaves
-            .par_iter()
-            // Leaves near a lit patch weigh its parts, the rest do nothing:
-            // small tasks keep both workers busy to the end.
-            .with_max_len(16)
-            .map(|&k| {
-                let e = &mesh.elements[k];
-                // A receiver that reflects nothing passes no light on: it
-                // gathers patch means and stays out of the sums, so that
-                // skipping its row (see `crate::pipeline::Skips`) changes
-                // nothing.
-                if e.reflectance.max_band() <= 0.0 {
-                    return SmallVec::new();
-                }
-                let normal = mesh.surfaces()[e.surface as usize].normal;
-                let entries = form_factors.entries(k);
-                let gathered = self.gathered(entries);
-                self.important(entries, e.centroid)
-                    .into_iter()
-                    .filter_map(|(i, weight)| {
-                        let (j, f) = entries[i as usize];
-                        let (parts, unoccluded) = self.weights(j, e.centroid, normal)?;
-                        let f = f64::from(f);
-                        let hidden = 1.0 - f / unoccluded;
-                        // What weighing the hidden parts could change at
-                        // most, as a share of what the row gathers.
-                        let shaped = &self.shaped[self.slot[j as usize] as usize];
-                        let bound =
-                            shaped.swing * (f * weight * (hidden / (1.0 - hidden)).min(1.0));
-                        let matters = (0..3).any(|band| bound[band] > VIEW_SHARE * gathered[band]);
-                        let look = f < SEEN_SHARE * unoccluded && matters;
-                        Some(NearEntry {
-                            index: i,
-                            weight,
-                            parts,
-                            look: look && can_look,
-                            hidden: hidden.clamp(0.0, 1.0),
-                        })
-                    })
-                    .collect()
-            })
-            .collect();
+        // In batches of leaves, so that what is kept stops at the budget
+        // at the same leaf on any number of threads.
+        let mut near: Vec<SmallVec<[NearEntry; 2]>> = Vec::with_capacity(leaves.len());
+        let mut kept_weights = 0usize;
+        for batch in leaves.chunks(WEIGH_BATCH) {
+            let keep = kept_weights < budget;
+            let start = near.len();
+            near.par_extend(
+                batch
+                    .par_iter()
+                    // Leaves near a lit patch weigh its parts, the rest do
+                    // nothing: small tasks keep both workers busy to the end.
+                    .with_max_len(16)
+                    .map(|&k| self.near_entries(mesh, form_factors, k, can_look, keep)),
+            );
+            kept_weights += near[start..]
+                .iter()
+                .flat_map(|row| row.iter())
+                .map(|entry| entry.parts.len())
+                .sum::<usize>();
+        }
         let (seen, views) = match views {
             Some(scene) => self.seen_weights(mesh, form_factors, leaves, &near, scene),
             None => (Vec::new(), 0),
@@ -535,10 +539,57 @@ impl SourceShapes {
                 // Weighed by what it sees: sure.
                 let entry = &mut near[n][m];
                 entry.parts = parts;
+                entry.kept = true;
                 entry.hidden = 0.0;
             }
         }
         Some(NearWeights { near, views })
+    }
+
+    /// The near entries of leaf `k`'s row (see [`Self::near_weights`]),
+    /// their weights kept when `keep`.
+    fn near_entries(
+        &self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        k: ElementKey,
+        can_look: bool,
+        keep: bool,
+    ) -> SmallVec<[NearEntry; 2]> {
+        let e = &mesh.elements[k];
+        // A receiver that reflects nothing passes no light on: it
+        // gathers patch means and stays out of the sums, so that
+        // skipping its row (see `crate::pipeline::Skips`) changes
+        // nothing.
+        if e.reflectance.max_band() <= 0.0 {
+            return SmallVec::new();
+        }
+        let normal = mesh.surfaces()[e.surface as usize].normal;
+        let entries = form_factors.entries(k);
+        let gathered = self.gathered(entries);
+        self.important(entries, e.centroid)
+            .into_iter()
+            .filter_map(|(i, weight)| {
+                let (j, f) = entries[i as usize];
+                let (parts, unoccluded) = self.weights(j, e.centroid, normal)?;
+                let f = f64::from(f);
+                let hidden = 1.0 - f / unoccluded;
+                // What weighing the hidden parts could change at
+                // most, as a share of what the row gathers.
+                let shaped = &self.shaped[self.slot[j as usize] as usize];
+                let bound = shaped.swing * (f * weight * (hidden / (1.0 - hidden)).min(1.0));
+                let matters = (0..3).any(|band| bound[band] > VIEW_SHARE * gathered[band]);
+                let look = f < SEEN_SHARE * unoccluded && matters;
+                Some(NearEntry {
+                    index: i,
+                    weight,
+                    kept: keep,
+                    parts: if keep { parts } else { Vec::new() },
+                    look: look && can_look,
+                    hidden: hidden.clamp(0.0, 1.0),
+                })
+            })
+            .collect()
     }
 
     /// The factors on the patch radiosities that the rows of `leaves` gather
@@ -567,12 +618,21 @@ impl SourceShapes {
             .zip(&near.near)
             .map(|(&k, near)| {
                 let entries = form_factors.entries(k);
+                let e = &mesh.elements[k];
+                let normal = mesh.surfaces()[e.surface as usize].normal;
                 let mut row_factors = SmallVec::new();
                 let mut row_unsure = SmallVec::new();
                 for entry in near {
                     let j = entries[entry.index as usize].0;
                     let shaped = &self.shaped[self.slot[j as usize] as usize];
-                    let r = shaped.ratio_from(&entry.parts).unwrap_or(Rgb::ONE);
+                    let weighed;
+                    let parts = if entry.kept {
+                        &entry.parts
+                    } else {
+                        weighed = self.weights(j, e.centroid, normal).map(|w| w.0);
+                        weighed.as_deref().unwrap_or(&[])
+                    };
+                    let r = shaped.ratio_from(parts).unwrap_or(Rgb::ONE);
                     let weight = entry.weight;
                     row_factors.push((entry.index, Rgb::ONE + (r - Rgb::ONE) * weight));
                     // The share of the mean it keeps is as unsure as a
@@ -1303,6 +1363,7 @@ mod tests {
             index: i,
             weight: 1.0,
             parts: Vec::new(),
+            kept: false,
             look: true,
             hidden: 0.5,
         }])];
@@ -1469,6 +1530,29 @@ mod tests {
             })
             .any(|(p, q)| (p[0] / q[0] - 1.0).abs() > 0.01);
         assert!(moved, "the refresh took the new values");
+    }
+
+    /// Receivers past the budget weigh their parts again each time: the
+    /// factors are the same bits as with every weight kept.
+    #[test]
+    fn weights_not_kept_give_the_same_factors() {
+        let sol = solved();
+        let shapes = SourceShapes::new(&sol.mesh, &sol.form_factors, &sol.radiosity, false);
+        let leaves = sol.mesh.leaves();
+        let (mesh, ff) = (&sol.mesh, &sol.form_factors);
+        let all = shapes
+            .near_weights_within(mesh, ff, &leaves, None, usize::MAX)
+            .unwrap();
+        let none = shapes
+            .near_weights_within(mesh, ff, &leaves, None, 0)
+            .unwrap();
+        let kept = |w: &NearWeights| w.near.iter().flatten().filter(|e| e.kept).count();
+        assert!(kept(&all) > 0);
+        assert_eq!(kept(&none), 0);
+        let a = shapes.factors(mesh, ff, &leaves, |_| 1.0, &all);
+        let b = shapes.factors(mesh, ff, &leaves, |_| 1.0, &none);
+        assert_eq!(a.near, b.near);
+        assert_eq!(a.patch, b.patch);
     }
 
     #[test]
