@@ -216,6 +216,18 @@ pub(super) fn subtract(
     }
     let mut out = Vec::with_capacity(pieces.len() + 4);
     for piece in pieces.drain(..) {
+        // Wholly outside one of the hole's edges: untouched, kept whole.
+        // Every edge is asked before any is cut along; cutting first would
+        // split a piece beside the hole along an edge line that crosses it
+        // though the hole does not, and the pieces (each clipped by every
+        // later hole, and summed) would multiply for nothing.
+        if outward
+            .iter()
+            .any(|&(a, n)| piece.iter().all(|x| n.dot(*x - a) >= 0.0))
+        {
+            out.push(piece);
+            continue;
+        }
         let mut rest = piece;
         for &(a, n) in &outward {
             // Wholly on one side of the edge's plane (most pieces, for most
@@ -339,6 +351,22 @@ mod tests {
             (visible - expected).abs() < 1e-12,
             "{visible} vs {expected}"
         );
+    }
+
+    #[test]
+    fn a_hole_beside_a_piece_leaves_it_whole() {
+        // A hole right of the light whose first edge lies on the line
+        // y = 0.5, across the light: the light stays one piece.
+        let light = square(1.0, 0.0, 0.0, 1.0, 1.0);
+        let hole = vec![
+            DVec3::new(2.0, 0.5, 1.0),
+            DVec3::new(3.0, 0.5, 1.0),
+            DVec3::new(2.5, 3.0, 1.0),
+        ];
+        let mut pieces = vec![Piece::from_slice(&light)];
+        assert!(subtract(&mut pieces, &hole, DVec3::Z, 0.0));
+        assert_eq!(pieces.len(), 1);
+        assert_eq!(pieces[0].as_slice(), light.as_slice());
     }
 
     #[test]
