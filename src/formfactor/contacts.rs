@@ -14,7 +14,7 @@
 //! the pieces of other polygons that lie within a thin slab about its plane
 //! and inside it (not merely on its border, where every wall meets its
 //! floor). Only for those elements, points spread evenly over the element
-//! (16, then 64 where those disagree) are tested with
+//! (16, then 49 where those disagree) are tested with
 //! [`Occluders::mostly_open`]; the share of them that are is the element's
 //! visible fraction, and its row is taken at the visible point nearest the
 //! centre of the visible ones and scaled by that fraction (see
@@ -37,10 +37,14 @@ type Piece = SmallVec<[DVec3; 8]>;
 
 /// Points per side of the grids of test points over an element (quads), or
 /// divisions per edge (triangles): a first look at 16 points, which most
-/// elements a contact's slab reaches answer alike (wholly visible); where
-/// they disagree, 64, so that the visible share is known to a few percent.
+/// elements a contact's slab reaches answer alike (wholly visible or wholly
+/// shut in); where they disagree, 49, so that the visible share is known to
+/// a few percent. (With 64 the 10k atrium's per-object errors differ from
+/// these by less than a change of seed moves them, at more rays; 36
+/// misplaced the receiving point of a corner element, see the suite's test
+/// of a partly covered element's visible part.)
 const FIRST_SIDE: usize = 4;
-const SIDE: usize = 8;
+const SIDE: usize = 7;
 
 /// Visible test points at which a partly covered element's light from
 /// emitters is measured.
@@ -390,22 +394,31 @@ mod tests {
     }
 
     #[test]
-    fn a_floor_element_a_quarter_under_the_box_is_three_quarters_visible() {
+    fn a_floor_element_about_a_quarter_under_the_box_shows_the_rest_visible() {
         let (_, sources, occluders) = floor_wall_and_box();
-        let element = floor_square(-0.5, -0.5, 1.0);
+        // A unit element over the box's corner, placed so that the box's
+        // sides (x = 0 and z = 0) run along lines of the grid of test
+        // points: the box covers about a quarter of it.
+        let n = SIDE as f64;
+        let outside = (SIDE / 2) as f64;
+        let x0 = -outside / n;
+        let element = floor_square(x0, x0, 1.0);
         let lift = DVec3::Y * 1e-6;
         let c = occluders
             .coverage(&sources, &element, DVec3::Y, 0, lift, 11, 1.5)
             .expect("the box covers part of the element");
-        // The 8 x 8 jittered points fall one per cell, and the box covers
-        // 16 cells of 64 exactly.
-        assert_eq!(c.visible, 0.75);
+        // The jittered points fall one per cell, and the box covers the
+        // cells beyond those lines exactly.
+        let covered = (n - outside).powi(2);
+        assert_eq!(c.visible, (n * n - covered) / (n * n));
         // The eye is a visible point near the centre of the visible part,
-        // an L whose centroid is at (-1/12, -1/12): within a cell's
-        // diagonal (the points are jittered in cells 1/8 wide).
+        // an L (the element less the square [0, x0 + 1]^2): within a cell's
+        // diagonal and a little (the points are jittered in their cells).
         assert!(!occluders.is_shut_in(&sources, c.eye, DVec3::Y, 0));
-        let l_centre = DVec3::new(-1.0 / 12.0, 0.0, -1.0 / 12.0);
-        assert!((c.eye - l_centre).length() < 0.18, "{}", c.eye);
+        let side = x0 + 1.0;
+        let along = ((x0 + 0.5) - side * side * side / 2.0) / (1.0 - side * side);
+        let l_centre = DVec3::new(along, 0.0, along);
+        assert!((c.eye - l_centre).length() < 1.5 / n, "{}", c.eye);
         assert!(!c.samples.is_empty() && c.samples.len() <= EMITTER_POINTS);
         let weights: f64 = c.samples.iter().map(|s| s.1).sum();
         assert!((weights - 1.0).abs() < 1e-12);

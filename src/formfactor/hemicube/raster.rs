@@ -245,13 +245,17 @@ impl Hemicube {
         let (du, dw) = (m.x / h / half, m.y / h / half);
         let base = (m.x * (0.5 / half - 1.0) + m.y * (0.5 / half - y_offset) + m.z) / h;
         self.stats.polygons_rasterized += 1;
-        let (ymin, ymax) = screen
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.y), hi.max(p.y))
-            });
-        let j0 = ceil_index(ymin - 0.5, height);
-        let j1 = ceil_index(ymax - 0.5, height);
+        // The first pixel row at or below each vertex's pixel-centre line,
+        // once per vertex: every edge's row range, and the polygon's, are
+        // made of these (ceil_index is monotonic, so the polygon's is the
+        // least and greatest of them).
+        let mut row_of = [0usize; 8];
+        for (r, p) in row_of.iter_mut().zip(screen) {
+            *r = ceil_index(p.y - 0.5, height);
+        }
+        let rows = &row_of[..count];
+        let j0 = rows.iter().copied().min().unwrap_or(0);
+        let j1 = rows.iter().copied().max().unwrap_or(0);
         if !FILL {
             // Keeps the projection above from being optimised away.
             std::hint::black_box((j0, j1));
@@ -264,13 +268,13 @@ impl Hemicube {
         // at the pixel-centre line (a convex polygon crosses each row twice).
         let (left, right) = (&mut self.span_left, &mut self.span_right);
         for k in 0..screen.len() {
-            let a = screen[k];
-            let b = screen[(k + 1) % screen.len()];
-            let (lo, hi) = if a.y <= b.y { (a, b) } else { (b, a) };
-            let (r0, r1) = (
-                ceil_index(lo.y - 0.5, height),
-                ceil_index(hi.y - 0.5, height),
-            );
+            let next = (k + 1) % screen.len();
+            let (a, b) = (screen[k], screen[next]);
+            let ((lo, hi), (r0, r1)) = if a.y <= b.y {
+                ((a, b), (rows[k], rows[next]))
+            } else {
+                ((b, a), (rows[next], rows[k]))
+            };
             if r0 >= r1 {
                 continue;
             }
