@@ -189,6 +189,15 @@ impl Hemicube {
         } else {
             f32::INFINITY
         };
+        // The slots touched are listed in a buffer sized beforehand (a
+        // slot is listed when its first pixel is added, and every delta
+        // form factor is positive, so at most once): a push that may grow
+        // the list is a call, and a call in this loop made the compiler
+        // keep the running sums in memory, each pixel waiting for the
+        // store of the one before.
+        let mut listed = std::mem::take(&mut self.touched);
+        let mut count = listed.len();
+        listed.resize(count + self.accumulator.len(), 0);
         for f in 0..5 {
             let weights = if f == 0 { &table.top } else { &table.side };
             let height = if f == 0 { n } else { n / 2 };
@@ -224,7 +233,10 @@ impl Hemicube {
                     if id < BACK_FACE {
                         let slot = &mut self.accumulator[id as usize];
                         if *slot == 0.0 {
-                            self.touched.push(id);
+                            if let Some(free) = listed.get_mut(count) {
+                                *free = id;
+                                count += 1;
+                            }
                         }
                         *slot += w;
                     } else if id == BACK_FACE {
@@ -233,6 +245,8 @@ impl Hemicube {
                 }
             }
         }
+        listed.truncate(count);
+        self.touched = listed;
         (back, near)
     }
 }
