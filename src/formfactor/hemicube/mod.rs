@@ -48,6 +48,9 @@ pub struct Hemicube {
     depth: [Vec<f32>; 5],
     accumulator: Vec<f64>,
     touched: Vec<u32>,
+    /// Room for one entry per accumulator slot, kept between hemi-cubes:
+    /// where the pixel sums list the slots they touch (see `row.rs`).
+    listing: Vec<u32>,
     /// Delta form factors of every pixel a front face covered, won or not.
     covered: Vec<f64>,
     /// Pixel counts of the same coverage.
@@ -90,6 +93,7 @@ impl Hemicube {
             depth,
             accumulator: vec![0.0; patches],
             touched: Vec::new(),
+            listing: Vec::new(),
             covered: vec![0.0; patches],
             covered_pixels: vec![0; patches],
             covered_touched: Vec::new(),

@@ -189,15 +189,17 @@ impl Hemicube {
         } else {
             f32::INFINITY
         };
-        // The slots touched are listed in a buffer sized beforehand (a
-        // slot is listed when its first pixel is added, and every delta
-        // form factor is positive, so at most once): a push that may grow
-        // the list is a call, and a call in this loop made the compiler
-        // keep the running sums in memory, each pixel waiting for the
-        // store of the one before.
-        let mut listed = std::mem::take(&mut self.touched);
-        let mut count = listed.len();
-        listed.resize(count + self.accumulator.len(), 0);
+        // The slots touched are listed in a buffer with room for every
+        // slot (a slot is listed when its first pixel is added, and every
+        // delta form factor is positive, so at most once), kept between
+        // hemi-cubes so that it is not filled anew each time: a push that
+        // may grow the list is a call, and a call in this loop made the
+        // compiler keep the running sums in memory, each pixel waiting for
+        // the store of the one before.
+        if self.listing.len() < self.accumulator.len() {
+            self.listing.resize(self.accumulator.len(), 0);
+        }
+        let mut count = 0;
         for f in 0..5 {
             let weights = if f == 0 { &table.top } else { &table.side };
             let height = if f == 0 { n } else { n / 2 };
@@ -233,7 +235,7 @@ impl Hemicube {
                     if id < BACK_FACE {
                         let slot = &mut self.accumulator[id as usize];
                         if *slot == 0.0 {
-                            if let Some(free) = listed.get_mut(count) {
+                            if let Some(free) = self.listing.get_mut(count) {
                                 *free = id;
                                 count += 1;
                             }
@@ -245,8 +247,7 @@ impl Hemicube {
                 }
             }
         }
-        listed.truncate(count);
-        self.touched = listed;
+        self.touched.extend_from_slice(&self.listing[..count]);
         (back, near)
     }
 }
