@@ -364,6 +364,7 @@ impl Hemicube {
             self.depth[fi][px] = value;
             self.items[fi][px] = item;
         }
+        self.nearest[fi] = self.nearest[fi].max(value);
         let width = self.table.n;
         let (j, i) = (px / width, px % width);
         self.drawn[fi].include(j, j + 1, i, i + 1);

@@ -67,6 +67,10 @@ pub struct Hemicube {
     span_right: Vec<f64>,
     /// Per face, the rectangle drawn into since the last clear.
     drawn: [Drawn; 5],
+    /// Per face, at least the largest 1/depth drawn since the last clear:
+    /// the pixel sums skip looking for near surfaces on a face where none
+    /// can be (see `row.rs`).
+    nearest: [f32; 5],
     /// The polygons to draw this time and the BVH nodes to draw as one sample
     /// (reused buffers; see `cull.rs`).
     candidates: Vec<u32>,
@@ -102,6 +106,7 @@ impl Hemicube {
             span_left: vec![f64::INFINITY; n],
             span_right: vec![f64::NEG_INFINITY; n],
             drawn: [Drawn::EMPTY; 5],
+            nearest: [0.0; 5],
             candidates: Vec::new(),
             splats: Vec::new(),
             skip_empty: true,

@@ -17,6 +17,11 @@ struct Draw<'a> {
     list_subpixel: bool,
 }
 
+/// Relative margin on a polygon's largest 1/depth (see `Hemicube::nearest`),
+/// far above the rounding of the depth steps along a span (at most a
+/// face's width of single-precision additions, about 1e-5).
+const NEAREST_MARGIN: f64 = 1e-3;
+
 impl Hemicube {
     /// Fills the item and depth buffers with the front faces of `sources` seen
     /// from `eye` (and the back faces that hide them, unless `hidden_back`
@@ -172,6 +177,7 @@ impl Hemicube {
         let n = self.table.n;
         for f in 0..5 {
             let d = std::mem::replace(&mut self.drawn[f], Drawn::EMPTY);
+            self.nearest[f] = 0.0;
             if !self.skip_empty {
                 self.items[f].fill(NOTHING);
                 self.depth[f].fill(0.0);
@@ -328,6 +334,12 @@ impl Hemicube {
         }
         if !drawn.is_empty() {
             self.drawn[fi].include(drawn.j0, drawn.j1, drawn.i0, drawn.i1);
+            // 1/depth is affine over the polygon, so its largest value is at
+            // a vertex (p.z is the depth along the face's axis). The pixels'
+            // single-precision steps can overshoot that by rounding only;
+            // the margin covers it many times over.
+            let most = pts.iter().map(|p| 1.0 / p.z).fold(0.0, f64::max);
+            self.nearest[fi] = self.nearest[fi].max((most * (1.0 + NEAREST_MARGIN)) as f32);
         }
         self.stats.pixels_tested += tested;
         if item < BACK_FACE && covered > 0.0 {
