@@ -473,7 +473,7 @@ impl SourceShapes {
         mesh: &Mesh,
         form_factors: &FormFactors,
         leaves: &[ElementKey],
-        row_scale: impl Fn(usize) -> f64,
+        row_scale: impl Fn(usize) -> f64 + Sync,
         views: Option<&PartViews<'_, 's>>,
     ) -> Option<EntryFactors> {
         let near = self.near_weights(mesh, form_factors, leaves, views)?;
@@ -607,7 +607,7 @@ impl SourceShapes {
         mesh: &Mesh,
         form_factors: &FormFactors,
         leaves: &[ElementKey],
-        row_scale: impl Fn(usize) -> f64,
+        row_scale: impl Fn(usize) -> f64 + Sync,
         near: &NearWeights,
     ) -> EntryFactors {
         // Per near entry, its factor, and how unsure its ratio is (see
@@ -646,35 +646,24 @@ impl SourceShapes {
         // without the ratios, and with the ratios times how unsure each
         // is, summed in leaf order (the same bits at any thread count).
         // Receivers that are not near it gather its mean, wholly unsure.
-        let mut with = vec![Rgb::ZERO; self.shaped.len()];
-        let mut with_unsure = vec![Rgb::ZERO; self.shaped.len()];
-        let mut without = vec![0.0; self.shaped.len()];
+        let without = self.gathered_from_means(mesh, form_factors, leaves, &row_scale);
+        // Receivers gather by the ratios what they gathered from the means,
+        // plus each near entry's departure from its mean.
+        let mut with: Vec<Rgb> = without.iter().map(|&w| Rgb::splat(w)).collect();
+        let mut with_unsure = with.clone();
         for (n, (&k, near)) in leaves.iter().zip(&factors).enumerate() {
-            let near_unsure = &unsure[n];
             let e = &mesh.elements[k];
-            if e.reflectance.max_band() <= 0.0 {
+            if near.is_empty() || e.reflectance.max_band() <= 0.0 {
                 continue;
             }
             let area = e.area * row_scale(n);
             let entries = form_factors.entries(k);
-            let mut next = near.iter().zip(near_unsure).peekable();
-            for (i, &(j, f)) in entries.iter().enumerate() {
-                let s = self.slot[j as usize];
-                if s == u32::MAX {
-                    continue;
-                }
+            for (&(i, ratio), &u) in near.iter().zip(&unsure[n]) {
+                let (j, f) = entries[i as usize];
+                let s = self.slot[j as usize] as usize;
                 let w = area * f64::from(f);
-                let (ratio, u) = match next.peek() {
-                    Some(((at, r), u)) if *at as usize == i => {
-                        let entry = (*r, **u);
-                        next.next();
-                        entry
-                    }
-                    _ => (Rgb::ONE, 1.0),
-                };
-                with[s as usize] += ratio * w;
-                with_unsure[s as usize] += ratio * (w * u);
-                without[s as usize] += w;
+                with[s] += (ratio - Rgb::ONE) * w;
+                with_unsure[s] += (ratio * u - Rgb::ONE) * w;
             }
         }
         let corrections: Vec<Correction> = (0..self.shaped.len())
@@ -701,6 +690,49 @@ impl SourceShapes {
             near: factors,
             patch,
         }
+    }
+
+    /// Per shaped patch, what the reflecting receivers among `leaves` (leaf
+    /// `n`'s row scaled by `row_scale(n)`) gather from its mean per unit
+    /// radiosity: the sum of area times form factor. Summed in fixed blocks
+    /// of leaves, in parallel, and the blocks in order: the same bits at
+    /// any thread count.
+    fn gathered_from_means(
+        &self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        leaves: &[ElementKey],
+        row_scale: &(impl Fn(usize) -> f64 + Sync),
+    ) -> Vec<f64> {
+        const BLOCK: usize = 1024;
+        let blocks: Vec<Vec<f64>> = leaves
+            .par_chunks(BLOCK)
+            .enumerate()
+            .map(|(b, block)| {
+                let mut sums = vec![0.0; self.shaped.len()];
+                for (m, &k) in block.iter().enumerate() {
+                    let e = &mesh.elements[k];
+                    if e.reflectance.max_band() <= 0.0 {
+                        continue;
+                    }
+                    let area = e.area * row_scale(b * BLOCK + m);
+                    for &(j, f) in form_factors.entries(k) {
+                        let s = self.slot[j as usize];
+                        if s != u32::MAX {
+                            sums[s as usize] += area * f64::from(f);
+                        }
+                    }
+                }
+                sums
+            })
+            .collect();
+        let mut total = vec![0.0; self.shaped.len()];
+        for sums in &blocks {
+            for (t, x) in total.iter_mut().zip(sums) {
+                *t += x;
+            }
+        }
+        total
     }
 
     /// Per band, what a row of `entries` gathers from the means of shaped
