@@ -19,24 +19,55 @@
 use super::{Occluders, Sources};
 use glam::DVec3;
 use obvhs::ray::{Ray, RayHit};
+use smallvec::SmallVec;
+use std::sync::OnceLock;
 
 /// Elevations above the horizon (radians) and azimuth counts of the rings of
 /// the fan; the normal itself is the first ray.
 const RINGS: [(f64, usize); 4] = [(1.05, 6), (0.6, 10), (0.25, 16), (0.06, 16)];
 
-/// The directions of the fan about unit `normal`: the normal, then each of
-/// `rings` (elevation, azimuth count) in turn.
-fn fan(normal: DVec3, rings: &[(f64, usize)]) -> impl Iterator<Item = DVec3> + '_ {
-    let (t1, t2) = normal.any_orthonormal_pair();
-    std::iter::once(normal).chain(rings.iter().flat_map(move |&(elevation, count)| {
-        let (sin_e, cos_e) = elevation.sin_cos();
-        (0..count).map(move |k| {
-            let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / count as f64;
-            let (sin_a, cos_a) = azimuth.sin_cos();
-            normal * sin_e + (t1 * cos_a + t2 * sin_a) * cos_e
-        })
-    }))
+/// Per ray of the fan over [`RINGS`] (the normal first, then each ring in
+/// turn): the sine and cosine of its elevation and of its azimuth, found
+/// once: every test point of every element casts some of the same rays.
+fn fan_angles() -> &'static [[f64; 4]] {
+    static ANGLES: OnceLock<Vec<[f64; 4]>> = OnceLock::new();
+    ANGLES.get_or_init(|| {
+        let mut angles = vec![[1.0, 0.0, 0.0, 1.0]];
+        for &(elevation, count) in &RINGS {
+            let (sin_e, cos_e) = elevation.sin_cos();
+            for k in 0..count {
+                let azimuth = std::f64::consts::TAU * (k as f64 + 0.5) / count as f64;
+                let (sin_a, cos_a) = azimuth.sin_cos();
+                angles.push([sin_e, cos_e, sin_a, cos_a]);
+            }
+        }
+        angles
+    })
 }
+
+/// The first `count` directions of the fan about unit `normal` (the normal,
+/// then the rings of [`RINGS`] from the highest down).
+fn fan(normal: DVec3, count: usize) -> impl Iterator<Item = DVec3> {
+    let (t1, t2) = normal.any_orthonormal_pair();
+    fan_angles()[..count]
+        .iter()
+        .enumerate()
+        .map(move |(i, &[sin_e, cos_e, sin_a, cos_a])| {
+            if i == 0 {
+                normal
+            } else {
+                normal * sin_e + (t1 * cos_a + t2 * sin_a) * cos_e
+            }
+        })
+}
+
+/// The rays [`Occluders::mostly_open`] casts first, as indices into the
+/// fan: the normal and two opposite rays of the highest ring. Where all
+/// three agree they decide. Measured over every test point of the Cornell
+/// box (20 000) and of the 10 000-triangle atrium (320 000): they agreed
+/// at 86% and 71% of the points, and never against the majority of the
+/// whole upper fan, at a third of its rays.
+const PROBES: [usize; 3] = [0, 1, 4];
 
 impl Occluders {
     /// True when every ray of the fan from `eye` over the hemisphere about
@@ -50,15 +81,17 @@ impl Occluders {
         normal: DVec3,
         own_surface: u32,
     ) -> bool {
-        fan(normal, &RINGS).all(|dir| {
+        let total = 1 + RINGS.iter().map(|r| r.1).sum::<usize>();
+        fan(normal, total).all(|dir| {
             self.first_face(sources, eye, dir, own_surface, f64::INFINITY) == Some(false)
         })
     }
 
-    /// True when at least half the rays of the upper part of the fan (the
-    /// normal and the rings highest above the horizon) from `eye` about unit
-    /// `normal` meet a front face or nothing (ignoring
-    /// `own_surface`): the test of a point of a partly covered element (see
+    /// True when the rays from `eye` about unit `normal` meet a front face
+    /// or nothing (ignoring `own_surface`): by the three rays of [`PROBES`]
+    /// where they agree, else by at least half the rays of the upper part of
+    /// the fan (the normal and the two rings highest above the horizon).
+    /// The test of a point of a partly covered element (see
     /// `contacts.rs`). Unlike [`Self::is_shut_in`], a ray or two slipping out
     /// where a solid meets the surface at a glancing angle (a capital's rim
     /// under its abacus) do not make a point inside the solid visible. Rays
@@ -75,15 +108,25 @@ impl Occluders {
     ) -> bool {
         // The normal and the two upper rings: a point inside a solid meets
         // its back faces in every direction, one in the open in most.
-        let rings = &RINGS[..2];
-        let total = 1 + rings.iter().map(|r| r.1).sum::<usize>();
+        let total = 1 + RINGS[..2].iter().map(|r| r.1).sum::<usize>();
         let needed = total.div_ceil(2);
-        let (mut open, mut blocked) = (0, 0);
-        for dir in fan(normal, rings) {
-            if self.first_face(sources, eye, dir, own_surface, reach) == Some(false) {
-                blocked += 1;
-            } else {
+        let is_open =
+            |dir: DVec3| self.first_face(sources, eye, dir, own_surface, reach) != Some(false);
+        let dirs: SmallVec<[DVec3; 17]> = fan(normal, total).collect();
+        let probed = PROBES.map(|i| is_open(dirs[i]));
+        if probed.iter().all(|&o| o == probed[0]) {
+            return probed[0];
+        }
+        let mut open = probed.iter().filter(|&&o| o).count();
+        let mut blocked = PROBES.len() - open;
+        for (i, &dir) in dirs.iter().enumerate() {
+            if PROBES.contains(&i) {
+                continue;
+            }
+            if is_open(dir) {
                 open += 1;
+            } else {
+                blocked += 1;
             }
             if open >= needed || blocked > total - needed {
                 break;
@@ -220,5 +263,66 @@ mod tests {
         let sources = box_on_floor();
         let occluders = Occluders::new(&sources);
         assert!(occluders.is_shut_in(&sources, eye, DVec3::Z, 0));
+    }
+
+    /// A rectangle from its corners (counter-clockwise about `normal`).
+    fn rectangle(corners: [DVec3; 4], normal: DVec3, surface: u32) -> SourcePolygon {
+        let centre = corners.iter().copied().sum::<DVec3>() / 4.0;
+        let radius = corners
+            .iter()
+            .map(|c| (*c - centre).length())
+            .fold(0.0, f64::max);
+        SourcePolygon {
+            vertices: corners,
+            count: 4,
+            normal,
+            surface,
+            centre,
+            radius,
+            patch: 0,
+        }
+    }
+
+    #[test]
+    fn where_the_probes_disagree_the_majority_of_the_upper_fan_decides() {
+        let eye = DVec3::new(0.0, 0.0, 1e-7);
+        // A small lid straight above, its back face down: it stops the
+        // normal only, and the other rays get out.
+        let lid = square(DVec3::Z, 0.1, DVec3::Z, 1);
+        let sources = Sources::one_per_patch(vec![square(DVec3::ZERO, 5.0, DVec3::Z, 0), lid]);
+        let occluders = Occluders::new(&sources);
+        assert!(occluders.mostly_open(&sources, eye, DVec3::Z, 0, 10.0));
+        // A tall open-topped shaft of outward-facing walls: the normal gets
+        // out and every other ray of the upper fan meets a wall's back.
+        let (h, w) = (3.0, 0.5);
+        let c = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let walls = vec![
+            square(DVec3::ZERO, 5.0, DVec3::Z, 0),
+            rectangle(
+                [c(w, -w, 0.0), c(w, w, 0.0), c(w, w, h), c(w, -w, h)],
+                DVec3::X,
+                1,
+            ),
+            rectangle(
+                [c(-w, w, 0.0), c(-w, -w, 0.0), c(-w, -w, h), c(-w, w, h)],
+                DVec3::NEG_X,
+                2,
+            ),
+            rectangle(
+                [c(w, w, 0.0), c(-w, w, 0.0), c(-w, w, h), c(w, w, h)],
+                DVec3::Y,
+                3,
+            ),
+            rectangle(
+                [c(-w, -w, 0.0), c(w, -w, 0.0), c(w, -w, h), c(-w, -w, h)],
+                DVec3::NEG_Y,
+                4,
+            ),
+        ];
+        let sources = Sources::one_per_patch(walls);
+        let occluders = Occluders::new(&sources);
+        assert!(!occluders.mostly_open(&sources, eye, DVec3::Z, 0, 10.0));
+        // Without the walls' backs in the way it is open.
+        assert!(occluders.mostly_open(&sources, DVec3::new(2.0, 0.0, 1e-7), DVec3::Z, 0, 10.0));
     }
 }
