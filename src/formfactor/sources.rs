@@ -325,6 +325,12 @@ impl SourcePolygon {
         &self.vertices[..self.count as usize]
     }
 
+    /// Its area and area centroid.
+    #[must_use]
+    pub(crate) fn area_and_centroid(&self) -> (f64, DVec3) {
+        area_and_centroid(self.corners())
+    }
+
     /// Its unoccluded form factor from (`eye`, unit `normal`), clipped to the
     /// horizon, either side facing: Lambert's formula, or where it is small
     /// and far (see [`FAR`]) and wholly above the horizon, the differential
@@ -339,11 +345,24 @@ impl SourcePolygon {
     /// two differ by the order of that ratio squared.
     #[must_use]
     pub(crate) fn form_factor_within(&self, eye: DVec3, normal: DVec3, far: f64) -> f64 {
+        self.form_factor_within_given(eye, normal, far, || self.area_and_centroid())
+    }
+
+    /// [`Self::form_factor_within`], with its area and area centroid from
+    /// `area_centroid` (for a caller that keeps them) when it needs them.
+    #[must_use]
+    pub(crate) fn form_factor_within_given(
+        &self,
+        eye: DVec3,
+        normal: DVec3,
+        far: f64,
+        area_centroid: impl FnOnce() -> (f64, DVec3),
+    ) -> f64 {
         let d = self.centre - eye;
         let r2 = d.length_squared();
         if self.radius * self.radius < far * far * r2 && normal.dot(d) > self.radius {
             // At the area centroid the first-order terms cancel.
-            let (area, centroid) = area_and_centroid(self.corners());
+            let (area, centroid) = area_centroid();
             let d = centroid - eye;
             let r2 = d.length_squared();
             let (up, facing) = (normal.dot(d), self.normal.dot(d).abs());

@@ -317,6 +317,10 @@ struct Shaped {
     parts: Vec<Part>,
     /// How many of `parts` form the cut.
     top: usize,
+    /// Per part, the radiosity of its exposed leaves (see
+    /// [`exposed_power`]). Apart from `parts`: the ratios read only these,
+    /// a few to a receiver's entry, and they share cache lines.
+    values: Vec<Rgb>,
     /// Per part, its node of the patch's quadtree.
     keys: Vec<ElementKey>,
     /// The patch.
@@ -327,8 +331,8 @@ struct Shaped {
 #[derive(Debug)]
 struct Part {
     source: SourcePolygon,
-    /// The radiosity of its exposed leaves (see [`exposed_power`]).
-    value: Rgb,
+    /// Its area and area centroid, for its differential form factor.
+    area_centroid: (f64, DVec3),
     /// Its exposed share of its area: what a receiver can see of it.
     share: f64,
     /// Its children among the patch's parts (empty for a leaf, and for
@@ -367,14 +371,15 @@ impl SourceShapes {
             };
             let PartTree {
                 parts,
+                values,
                 top,
                 keys,
                 mean,
             } = tree;
             let uneven = (0..3).any(|band| {
-                let (lo, hi) = parts
+                let (lo, hi) = values
                     .iter()
-                    .map(|part| part.value[band])
+                    .map(|value| value[band])
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
                         (lo.min(v), hi.max(v))
                     });
@@ -383,7 +388,7 @@ impl SourceShapes {
             if !uneven {
                 continue;
             }
-            let swing = swing_of(&parts, mean);
+            let swing = swing_of(&values, mean);
             let centre = patch.centroid;
             let radius = parts[..top]
                 .iter()
@@ -404,6 +409,7 @@ impl SourceShapes {
                 swing,
                 sent: sent_ratio,
                 parts,
+                values,
                 top,
                 keys,
                 patch: p as u32,
@@ -432,10 +438,10 @@ impl SourceShapes {
             .collect();
         self.shaped.par_iter_mut().for_each(|shaped| {
             let (mut area, mut power) = (0.0, Rgb::ZERO);
-            for (n, (part, &k)) in shaped.parts.iter_mut().zip(&shaped.keys).enumerate() {
+            for (n, (value, &k)) in shaped.values.iter_mut().zip(&shaped.keys).enumerate() {
                 let (a, p) = exposed_power(mesh, form_factors, radiosity, k);
                 if a > 0.0 {
-                    part.value = p * (1.0 / a);
+                    *value = p * (1.0 / a);
                 }
                 if n < shaped.top {
                     area += a;
@@ -445,7 +451,7 @@ impl SourceShapes {
             if area > 0.0 {
                 shaped.mean = power * (1.0 / area);
             }
-            shaped.swing = swing_of(&shaped.parts, shaped.mean);
+            shaped.swing = swing_of(&shaped.values, shaped.mean);
             if !closed {
                 shaped.sent = sent_ratio(
                     mesh,
@@ -916,7 +922,8 @@ impl Shaped {
                 stack.extend(part.children.clone().rev());
                 continue;
             }
-            out.push((i, source.form_factor_within(eye, normal, WEIGHT_FAR)));
+            let f = source.form_factor_within_given(eye, normal, WEIGHT_FAR, || part.area_centroid);
+            out.push((i, f));
         }
         out
     }
@@ -928,7 +935,7 @@ impl Shaped {
         for &(p, w) in weights {
             let w = f64::from(w);
             weight += w;
-            seen += self.parts[p as usize].value * w;
+            seen += self.values[p as usize] * w;
         }
         self.ratio_of(seen, weight)
     }
@@ -1011,6 +1018,7 @@ pub(crate) const OPEN: f64 = 0.5;
 /// A shaped patch's parts (see [`Shaped::parts`]) and their mean.
 struct PartTree {
     parts: Vec<Part>,
+    values: Vec<Rgb>,
     top: usize,
     keys: Vec<ElementKey>,
     mean: Rgb,
@@ -1025,7 +1033,7 @@ impl PartTree {
         radiosity: &Radiosity,
         cut: &[ElementKey],
     ) -> Option<PartTree> {
-        let part = |k: ElementKey| -> Option<(Part, f64)> {
+        let part = |k: ElementKey| -> Option<(Part, Rgb, f64)> {
             let (area, power) = exposed_power(mesh, form_factors, radiosity, k);
             if area <= 0.0 {
                 return None;
@@ -1033,24 +1041,27 @@ impl PartTree {
             let e = &mesh.elements[k];
             let surface = &mesh.surfaces()[e.surface as usize];
             let polygon = surface.polygon(&e.cell);
+            let source = SourcePolygon::new(&polygon, surface.normal, e.surface);
             let part = Part {
-                source: SourcePolygon::new(&polygon, surface.normal, e.surface),
-                value: power * (1.0 / area),
+                area_centroid: source.area_and_centroid(),
+                source,
                 share: (area / e.area).min(1.0),
                 children: 0..0,
             };
-            Some((part, area))
+            Some((part, power * (1.0 / area), area))
         };
         let mut parts = Vec::new();
+        let mut values = Vec::new();
         let mut keys = Vec::new();
         let mut below: Vec<(u32, ElementKey)> = Vec::new();
         let (mut area, mut power) = (0.0, Rgb::ZERO);
         for &k in cut {
-            if let Some((p, a)) = part(k) {
+            if let Some((p, value, a)) = part(k) {
                 area += a;
-                power += p.value * a;
+                power += value * a;
                 below.push((parts.len() as u32, k));
                 parts.push(p);
+                values.push(value);
                 keys.push(k);
             }
         }
@@ -1065,9 +1076,10 @@ impl PartTree {
             next += 1;
             let start = parts.len() as u32;
             for &c in &mesh.elements[k].children {
-                if let Some((p, _)) = part(c) {
+                if let Some((p, value, _)) = part(c) {
                     below.push((parts.len() as u32, c));
                     parts.push(p);
+                    values.push(value);
                     keys.push(c);
                 }
             }
@@ -1075,6 +1087,7 @@ impl PartTree {
         }
         Some(PartTree {
             parts,
+            values,
             top,
             keys,
             mean: power * (1.0 / area),
@@ -1110,11 +1123,11 @@ fn cut(mesh: &Mesh, roots: &[ElementKey]) -> Option<Vec<ElementKey>> {
 }
 
 /// Per band, `mean` times the parts' largest relative departure from it.
-fn swing_of(parts: &[Part], mean: Rgb) -> Rgb {
+fn swing_of(values: &[Rgb], mean: Rgb) -> Rgb {
     let mut swing = Rgb::ZERO;
-    for part in parts {
+    for value in values {
         for band in 0..3 {
-            swing.0[band] = swing.0[band].max((part.value[band] - mean[band]).abs());
+            swing.0[band] = swing.0[band].max((value[band] - mean[band]).abs());
         }
     }
     swing
@@ -1378,7 +1391,7 @@ mod tests {
             let part = &shaped.parts[p as usize];
             if part.source.centre.x > cut {
                 weight += f * part.share;
-                seen += part.value * (f * part.share);
+                seen += shaped.values[p as usize] * (f * part.share);
             }
         }
         let in_sight = shaped.ratio_of(seen, weight).unwrap();
@@ -1538,14 +1551,9 @@ mod tests {
                 a.sent,
                 b.sent
             );
-            assert_eq!(a.parts.len(), b.parts.len());
-            for (p, q) in a.parts.iter().zip(&b.parts) {
-                assert!(
-                    close(p.value, q.value),
-                    "part {:?} against {:?}",
-                    p.value,
-                    q.value
-                );
+            assert_eq!(a.values.len(), b.values.len());
+            for (p, q) in a.values.iter().zip(&b.values) {
+                assert!(close(*p, *q), "part {p:?} against {q:?}");
             }
         }
         // The scaling moved the patch's light east: a ratio changed.
@@ -1554,12 +1562,7 @@ mod tests {
             .shaped
             .iter()
             .zip(&unchanged.shaped)
-            .flat_map(|(a, b)| {
-                a.parts
-                    .iter()
-                    .zip(&b.parts)
-                    .map(|(p, q)| (p.value, q.value))
-            })
+            .flat_map(|(a, b)| a.values.iter().zip(&b.values).map(|(p, q)| (*p, *q)))
             .any(|(p, q)| (p[0] / q[0] - 1.0).abs() > 0.01);
         assert!(moved, "the refresh took the new values");
     }
