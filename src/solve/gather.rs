@@ -181,7 +181,7 @@ pub(crate) fn gather_with(
             let none = [];
             let mut near = factors
                 .as_ref()
-                .map_or(&none[..], |f| &f.near[i][..])
+                .map_or(&none[..], |f| f.near.row(i))
                 .iter()
                 .peekable();
             let reflects = e.reflectance.max_band() > 0.0;

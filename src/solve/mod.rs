@@ -15,6 +15,7 @@ mod gather;
 mod gauss_seidel;
 pub mod progressive;
 mod radiosity;
+mod ragged;
 pub(crate) mod source_shape;
 mod system;
 

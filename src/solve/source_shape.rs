@@ -50,6 +50,7 @@
 //! [`SKIPPED_SHARE`]), both without a step. One shaped gather is the
 //! gathering solver's default ([`crate::Settings::shaped_gathers`]).
 
+use super::ragged::Ragged;
 use super::Radiosity;
 use crate::formfactor::{FormFactors, PartSources, RowScene, SourcePolygon};
 use crate::math::Rgb;
@@ -63,7 +64,7 @@ use smallvec::SmallVec;
 pub(crate) struct EntryFactors {
     /// Per leaf, the entries of its row to unevenly lit patches it is near,
     /// as (index in the row, factor), in row order.
-    pub near: Vec<SmallVec<[(u32, Rgb); 2]>>,
+    pub near: Ragged<(u32, Rgb)>,
     /// Per patch, the factor of every other receiver's entry (1 for an even
     /// patch, and for every patch on a receiver that reflects nothing).
     pub patch: Vec<Rgb>,
@@ -96,6 +97,11 @@ impl EntryFactors {
 /// in single precision: a receiver near many patches holds thousands.
 type PartWeights = Vec<(u32, f32)>;
 
+/// Leaves weighed in one parallel task: leaves near a lit patch weigh its
+/// parts, the rest do nothing, and small tasks keep every worker busy to
+/// the end.
+const WEIGH_TASK: usize = 16;
+
 /// Most part weights [`NearWeights`] keeps (8 bytes each: 256 MB); past
 /// them, in leaf order, receivers weigh the parts again each time the
 /// ratios are taken (the same weights, bit for bit, for more CPU). Kept
@@ -112,7 +118,9 @@ const WEIGH_BATCH: usize = 4096;
 #[derive(Debug)]
 pub(crate) struct NearWeights {
     /// Per leaf, its entries to shaped patches it is near, in row order.
-    near: Vec<SmallVec<[NearEntry; 2]>>,
+    near: Ragged<NearEntry>,
+    /// The part weights the entries keep (see [`NearEntry::parts`]).
+    weights: Vec<(u32, f32)>,
     /// How many receivers drew a hemi-cube again to see a patch part by part.
     views: usize,
 }
@@ -130,9 +138,9 @@ impl EntryFactors {
     pub(crate) fn largest_change(&self, other: &EntryFactors) -> f64 {
         let near = self
             .near
+            .items()
             .iter()
-            .zip(&other.near)
-            .flat_map(|(a, b)| a.iter().zip(b))
+            .zip(other.near.items())
             .map(|(a, b)| (a.1 - b.1).abs().max_band());
         let patch = self
             .patch
@@ -159,12 +167,13 @@ struct NearEntry {
     index: u32,
     /// How much of its ratio the receiver takes (see [`SourceShapes::important`]).
     weight: f64,
-    /// The parts it weighs, each with its weight: by their unoccluded form
-    /// factors, or by what its hemi-cube shows of them where it looked (see
+    /// Where in [`NearWeights::weights`] the parts it weighs lie, each with
+    /// its weight: by their unoccluded form factors, or by what its
+    /// hemi-cube shows of them where it looked (see
     /// [`SourceShapes::near_weights`]). Its ratio is their weighted mean
     /// over the patch's mean, whatever the parts' values. Empty when not
     /// `kept`: they are then weighed again from the geometry each time.
-    parts: PartWeights,
+    parts: std::ops::Range<u32>,
     /// Whether `parts` holds the weights (see [`MAX_KEPT_WEIGHTS`]).
     kept: bool,
     /// Whether the receiver's row sees too little of the parts for those
@@ -517,24 +526,32 @@ impl SourceShapes {
         let can_look = views.is_some();
         // In batches of leaves, so that what is kept stops at the budget
         // at the same leaf on any number of threads.
-        let mut near: Vec<SmallVec<[NearEntry; 2]>> = Vec::with_capacity(leaves.len());
-        let mut kept_weights = 0usize;
+        let mut near: Ragged<NearEntry> = Ragged::default();
+        let mut weights: Vec<(u32, f32)> = Vec::new();
         for batch in leaves.chunks(WEIGH_BATCH) {
-            let keep = kept_weights < budget;
-            let start = near.len();
-            near.par_extend(
-                batch
-                    .par_iter()
-                    // Leaves near a lit patch weigh its parts, the rest do
-                    // nothing: small tasks keep both workers busy to the end.
-                    .with_max_len(16)
-                    .map(|&k| self.near_entries(mesh, form_factors, k, can_look, keep)),
-            );
-            kept_weights += near[start..]
-                .iter()
-                .flat_map(|row| row.iter())
-                .map(|entry| entry.parts.len())
-                .sum::<usize>();
+            let keep = weights.len() < budget;
+            // Per task, its leaves' entries and the weights they keep.
+            type Weighed = (Ragged<NearEntry>, Vec<(u32, f32)>);
+            let tasks: Vec<Weighed> = batch
+                .par_chunks(WEIGH_TASK)
+                .map(|task| {
+                    let (mut entries, mut kept) = (Ragged::default(), Vec::new());
+                    for &k in task {
+                        let row =
+                            self.near_entries(mesh, form_factors, k, can_look, keep, &mut kept);
+                        entries.push_row(row);
+                    }
+                    (entries, kept)
+                })
+                .collect();
+            for (entries, kept) in tasks {
+                let offset = weights.len() as u32;
+                weights.extend(kept);
+                near.append(entries.map(|mut entry| {
+                    entry.parts = entry.parts.start + offset..entry.parts.end + offset;
+                    entry
+                }));
+            }
         }
         let (seen, views) = match views {
             Some(scene) => self.seen_weights(mesh, form_factors, leaves, &near, scene),
@@ -543,17 +560,24 @@ impl SourceShapes {
         for (n, m, by_view) in seen {
             if let Some(parts) = by_view {
                 // Weighed by what it sees: sure.
-                let entry = &mut near[n][m];
-                entry.parts = parts;
+                let start = weights.len() as u32;
+                weights.extend(parts);
+                let entry = &mut near.row_mut(n)[m];
+                entry.parts = start..weights.len() as u32;
                 entry.kept = true;
                 entry.hidden = 0.0;
             }
         }
-        Some(NearWeights { near, views })
+        Some(NearWeights {
+            near,
+            weights,
+            views,
+        })
     }
 
     /// The near entries of leaf `k`'s row (see [`Self::near_weights`]),
-    /// their weights kept when `keep`.
+    /// their weights kept, when `keep`, at the end of `kept` (the entries'
+    /// ranges index it).
     fn near_entries(
         &self,
         mesh: &Mesh,
@@ -561,7 +585,8 @@ impl SourceShapes {
         k: ElementKey,
         can_look: bool,
         keep: bool,
-    ) -> SmallVec<[NearEntry; 2]> {
+        kept: &mut Vec<(u32, f32)>,
+    ) -> SmallVec<[NearEntry; 4]> {
         let e = &mesh.elements[k];
         // A receiver that reflects nothing passes no light on: it
         // gathers patch means and stays out of the sums, so that
@@ -573,29 +598,34 @@ impl SourceShapes {
         let normal = mesh.surfaces()[e.surface as usize].normal;
         let entries = form_factors.entries(k);
         let gathered = self.gathered(entries);
-        self.important(entries, e.centroid)
-            .into_iter()
-            .filter_map(|(i, weight)| {
-                let (j, f) = entries[i as usize];
-                let (parts, unoccluded) = self.weights(j, e.centroid, normal)?;
-                let f = f64::from(f);
-                let hidden = 1.0 - f / unoccluded;
-                // What weighing the hidden parts could change at
-                // most, as a share of what the row gathers.
-                let shaped = &self.shaped[self.slot[j as usize] as usize];
-                let bound = shaped.swing * (f * weight * (hidden / (1.0 - hidden)).min(1.0));
-                let matters = (0..3).any(|band| bound[band] > VIEW_SHARE * gathered[band]);
-                let look = f < SEEN_SHARE * unoccluded && matters;
-                Some(NearEntry {
-                    index: i,
-                    weight,
-                    kept: keep,
-                    parts: if keep { parts } else { Vec::new() },
-                    look: look && can_look,
-                    hidden: hidden.clamp(0.0, 1.0),
-                })
-            })
-            .collect()
+        let mut out = SmallVec::new();
+        for (i, weight) in self.important(entries, e.centroid) {
+            let (j, f) = entries[i as usize];
+            let start = kept.len();
+            let Some(unoccluded) = self.weights_into(j, e.centroid, normal, kept) else {
+                continue;
+            };
+            if !keep {
+                kept.truncate(start);
+            }
+            let f = f64::from(f);
+            let hidden = 1.0 - f / unoccluded;
+            // What weighing the hidden parts could change at
+            // most, as a share of what the row gathers.
+            let shaped = &self.shaped[self.slot[j as usize] as usize];
+            let bound = shaped.swing * (f * weight * (hidden / (1.0 - hidden)).min(1.0));
+            let matters = (0..3).any(|band| bound[band] > VIEW_SHARE * gathered[band]);
+            let look = f < SEEN_SHARE * unoccluded && matters;
+            out.push(NearEntry {
+                index: i,
+                weight,
+                kept: keep,
+                parts: start as u32..kept.len() as u32,
+                look: look && can_look,
+                hidden: hidden.clamp(0.0, 1.0),
+            });
+        }
+        out
     }
 
     /// The factors on the patch radiosities that the rows of `leaves` gather
@@ -618,36 +648,32 @@ impl SourceShapes {
     ) -> EntryFactors {
         // Per near entry, its factor, and how unsure its ratio is (see
         // `unsure` below).
-        type RowFactors = SmallVec<[(u32, Rgb); 2]>;
-        let (mut factors, unsure): (Vec<RowFactors>, Vec<SmallVec<[f64; 2]>>) = leaves
-            .par_iter()
-            .zip(&near.near)
-            .map(|(&k, near)| {
-                let entries = form_factors.entries(k);
-                let e = &mesh.elements[k];
-                let normal = mesh.surfaces()[e.surface as usize].normal;
-                let mut row_factors = SmallVec::new();
-                let mut row_unsure = SmallVec::new();
-                for entry in near {
-                    let j = entries[entry.index as usize].0;
-                    let shaped = &self.shaped[self.slot[j as usize] as usize];
-                    let weighed;
-                    let parts = if entry.kept {
-                        &entry.parts
-                    } else {
-                        weighed = self.weights(j, e.centroid, normal).map(|w| w.0);
-                        weighed.as_deref().unwrap_or(&[])
-                    };
-                    let r = shaped.ratio_from(parts).unwrap_or(Rgb::ONE);
-                    let weight = entry.weight;
-                    row_factors.push((entry.index, Rgb::ONE + (r - Rgb::ONE) * weight));
-                    // The share of the mean it keeps is as unsure as a
-                    // far receiver's.
-                    row_unsure.push(weight * entry.hidden + (1.0 - weight));
-                }
-                (row_factors, row_unsure)
-            })
-            .unzip();
+        let rows = Ragged::from_par_rows(leaves.len(), WEIGH_TASK, |n, out| {
+            let k = leaves[n];
+            let entries = form_factors.entries(k);
+            let e = &mesh.elements[k];
+            let normal = mesh.surfaces()[e.surface as usize].normal;
+            let mut weighed = Vec::new();
+            for entry in near.near.row(n) {
+                let j = entries[entry.index as usize].0;
+                let shaped = &self.shaped[self.slot[j as usize] as usize];
+                let parts = if entry.kept {
+                    &near.weights[entry.parts.start as usize..entry.parts.end as usize]
+                } else {
+                    weighed.clear();
+                    self.weights_into(j, e.centroid, normal, &mut weighed);
+                    &weighed[..]
+                };
+                let r = shaped.ratio_from(parts).unwrap_or(Rgb::ONE);
+                let weight = entry.weight;
+                // The share of the mean it keeps is as unsure as a far
+                // receiver's.
+                let unsure = weight * entry.hidden + (1.0 - weight);
+                out.push((entry.index, Rgb::ONE + (r - Rgb::ONE) * weight, unsure));
+            }
+        });
+        let unsure: Vec<f64> = rows.items().iter().map(|x| x.2).collect();
+        let mut factors = rows.map(|(i, r, _)| (i, r));
         // Per shaped patch, what its receivers gather from it with and
         // without the ratios, and with the ratios times how unsure each
         // is, summed in leaf order (the same bits at any thread count).
@@ -657,14 +683,17 @@ impl SourceShapes {
         // plus each near entry's departure from its mean.
         let mut with: Vec<Rgb> = without.iter().map(|&w| Rgb::splat(w)).collect();
         let mut with_unsure = with.clone();
-        for (n, (&k, near)) in leaves.iter().zip(&factors).enumerate() {
+        let mut at = 0;
+        for (n, (&k, near)) in leaves.iter().zip(factors.rows()).enumerate() {
+            let near_unsure = &unsure[at..at + near.len()];
+            at += near.len();
             let e = &mesh.elements[k];
             if near.is_empty() || e.reflectance.max_band() <= 0.0 {
                 continue;
             }
             let area = e.area * row_scale(n);
             let entries = form_factors.entries(k);
-            for (&(i, ratio), &u) in near.iter().zip(&unsure[n]) {
+            for (&(i, ratio), &u) in near.iter().zip(near_unsure) {
                 let (j, f) = entries[i as usize];
                 let s = self.slot[j as usize] as usize;
                 let w = area * f64::from(f);
@@ -678,12 +707,15 @@ impl SourceShapes {
                 Correction::of(target, with[s], with_unsure[s])
             })
             .collect();
-        for ((&k, near), near_unsure) in leaves.iter().zip(factors.iter_mut()).zip(&unsure) {
+        let mut at = 0;
+        for (n, &k) in leaves.iter().enumerate() {
             let entries = form_factors.entries(k);
-            for ((i, r), u) in near.iter_mut().zip(near_unsure) {
+            let near = factors.row_mut(n);
+            for ((i, r), u) in near.iter_mut().zip(&unsure[at..]) {
                 let j = entries[*i as usize].0;
                 *r = corrections[self.slot[j as usize] as usize].apply(*r, *u);
             }
+            at += near.len();
         }
         // Receivers not near a shaped patch gather its mean, wholly unsure.
         let mut patch = vec![Rgb::ONE; self.slot.len()];
@@ -812,32 +844,46 @@ impl SourceShapes {
     /// patch is even or the receiver sees none of the parts.
     #[cfg(test)]
     fn ratio(&self, j: u32, eye: DVec3, normal: DVec3) -> Option<(Rgb, f64)> {
-        let (parts, weight) = self.weights(j, eye, normal)?;
+        let mut parts = Vec::new();
+        let weight = self.weights_into(j, eye, normal, &mut parts)?;
         let shaped = &self.shaped[self.slot[j as usize] as usize];
         Some((shaped.ratio_from(&parts)?, weight))
     }
 
     /// The parts of patch `j` a receiver at `eye` facing `normal` weighs,
-    /// each by its unoccluded form factor times its exposed share, and the
-    /// sum of those weights; `None` when the patch is even or the receiver
-    /// sees none of the parts.
-    fn weights(&self, j: u32, eye: DVec3, normal: DVec3) -> Option<(PartWeights, f64)> {
+    /// each by its unoccluded form factor times its exposed share, pushed
+    /// onto `out`, and the sum of those weights; `None`, with nothing
+    /// pushed, when the patch is even or the receiver sees none of the parts.
+    fn weights_into(
+        &self,
+        j: u32,
+        eye: DVec3,
+        normal: DVec3,
+        out: &mut Vec<(u32, f32)>,
+    ) -> Option<f64> {
         let s = *self.slot.get(j as usize)?;
         if s == u32::MAX {
             return None;
         }
         let shaped = &self.shaped[s as usize];
+        let start = out.len();
         let mut weight = 0.0;
-        let parts: PartWeights = shaped
-            .weighed_parts(eye, normal)
-            .into_iter()
-            .map(|(part, w)| {
-                let w = w * shaped.parts[part as usize].share;
-                weight += w;
-                (part, w as f32)
-            })
-            .collect();
-        (weight > 0.0).then_some((parts, weight))
+        out.extend(
+            shaped
+                .weighed_parts(eye, normal)
+                .into_iter()
+                .map(|(part, w)| {
+                    let w = w * shaped.parts[part as usize].share;
+                    weight += w;
+                    (part, w as f32)
+                }),
+        );
+        if weight > 0.0 {
+            Some(weight)
+        } else {
+            out.truncate(start);
+            None
+        }
     }
 
     /// For the near entries of `near` (per leaf of `leaves`) whose rows see
@@ -852,11 +898,11 @@ impl SourceShapes {
         mesh: &Mesh,
         form_factors: &FormFactors,
         leaves: &[ElementKey],
-        near: &[SmallVec<[NearEntry; 2]>],
+        near: &Ragged<NearEntry>,
         views: &PartViews<'_, 's>,
     ) -> (Vec<(usize, usize, Option<PartWeights>)>, usize) {
         let which: Vec<usize> = (0..leaves.len())
-            .filter(|&n| near[n].iter().any(|x| x.look))
+            .filter(|&n| near.row(n).iter().any(|x| x.look))
             .collect();
         if which.is_empty() {
             return (Vec::new(), 0);
@@ -872,7 +918,7 @@ impl SourceShapes {
             // Per hidden entry: its index, its patch and the parts weighed.
             type Parts = SmallVec<[(u32, f64); 64]>;
             let mut drawn: SmallVec<[(usize, u32, &Shaped, Parts); 2]> = SmallVec::new();
-            for (m, entry) in near[n].iter().enumerate() {
+            for (m, entry) in near.row(n).iter().enumerate() {
                 if entry.look {
                     let j = row[entry.index as usize].0;
                     let shaped = &self.shaped[self.slot[j as usize] as usize];
@@ -1404,14 +1450,15 @@ mod tests {
             level_of_detail: true,
         };
         let skips = crate::formfactor::RowSkips::default();
-        let near = vec![SmallVec::from_iter([NearEntry {
+        let mut near = Ragged::default();
+        near.push_row([NearEntry {
             index: i,
             weight: 1.0,
-            parts: Vec::new(),
+            parts: 0..0,
             kept: false,
             look: true,
             hidden: 0.5,
-        }])];
+        }]);
         let scene = || RowScene::new(mesh, &sources, &settings, &skips);
         let views = PartViews {
             scene: &scene,
@@ -1581,7 +1628,7 @@ mod tests {
         let none = shapes
             .near_weights_within(mesh, ff, &leaves, None, 0)
             .unwrap();
-        let kept = |w: &NearWeights| w.near.iter().flatten().filter(|e| e.kept).count();
+        let kept = |w: &NearWeights| w.near.items().iter().filter(|e| e.kept).count();
         assert!(kept(&all) > 0);
         assert_eq!(kept(&none), 0);
         let a = shapes.factors(mesh, ff, &leaves, |_| 1.0, &all);
@@ -1605,7 +1652,7 @@ mod tests {
         for (n, &k) in leaves.iter().enumerate() {
             let e = &sol.mesh.elements[k];
             let reflects = e.reflectance.max_band() > 0.0;
-            let mut near = factors.near[n].iter().peekable();
+            let mut near = factors.near.row(n).iter().peekable();
             for (i, &(j, f)) in sol.form_factors.entries(k).iter().enumerate() {
                 let r = factors.factor(&mut near, i, j, reflects);
                 if !reflects {

@@ -301,6 +301,7 @@ impl Hemicube {
         let mut covered = 0.0;
         let mut tested = 0u64;
         let mut drawn = Drawn::EMPTY;
+        let mut most = 0.0f64;
         for j in j0..j1 {
             let (xl, xr) = (
                 std::mem::replace(&mut left[j], f64::INFINITY),
@@ -314,7 +315,8 @@ impl Hemicube {
             let off = j * width;
             // 1/depth steps linearly along the span; single precision is ample
             // for the depth test (the plane equation itself is in double).
-            let mut z = (base + dw * j as f64 + du * i0 as f64) as f32;
+            let first = base + dw * j as f64 + du * i0 as f64;
+            let mut z = first as f32;
             let dz = du as f32;
             for (d, it) in depth[off + i0..off + i1]
                 .iter_mut()
@@ -327,6 +329,9 @@ impl Hemicube {
                 z += dz;
             }
             if i1 > i0 {
+                // 1/depth is affine along the span: its largest value is at
+                // one end.
+                most = most.max(first).max(first + du * (i1 - 1 - i0) as f64);
                 tested += (i1 - i0) as u64;
                 covered += prefix[j * (width + 1) + i1] - prefix[j * (width + 1) + i0];
                 drawn.include(j, j + 1, i0, i1);
@@ -334,11 +339,8 @@ impl Hemicube {
         }
         if !drawn.is_empty() {
             self.drawn[fi].include(drawn.j0, drawn.j1, drawn.i0, drawn.i1);
-            // 1/depth is affine over the polygon, so its largest value is at
-            // a vertex (p.z is the depth along the face's axis). The pixels'
-            // single-precision steps can overshoot that by rounding only;
-            // the margin covers it many times over.
-            let most = pts.iter().map(|p| 1.0 / p.z).fold(0.0, f64::max);
+            // The pixels' single-precision steps can overshoot the largest
+            // span end by rounding only; the margin covers it many times over.
             self.nearest[fi] = self.nearest[fi].max((most * (1.0 + NEAREST_MARGIN)) as f32);
         }
         self.stats.pixels_tested += tested;
