@@ -132,25 +132,6 @@ impl NearWeights {
     }
 }
 
-impl EntryFactors {
-    /// The largest difference between a factor of `self` and the same
-    /// factor of `other` (both from the same [`NearWeights`]), in any band.
-    pub(crate) fn largest_change(&self, other: &EntryFactors) -> f64 {
-        let near = self
-            .near
-            .items()
-            .iter()
-            .zip(other.near.items())
-            .map(|(a, b)| (a.1 - b.1).abs().max_band());
-        let patch = self
-            .patch
-            .iter()
-            .zip(&other.patch)
-            .map(|(a, b)| (*a - *b).abs().max_band());
-        near.chain(patch).fold(0.0, f64::max)
-    }
-}
-
 /// How a shaped gather draws the hemi-cubes of receivers that look at a
 /// patch part by part (see [`SEEN_SHARE`]).
 pub(crate) struct PartViews<'a, 's> {
