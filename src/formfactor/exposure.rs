@@ -265,24 +265,6 @@ mod tests {
         assert!(occluders.is_shut_in(&sources, eye, DVec3::Z, 0));
     }
 
-    /// A rectangle from its corners (counter-clockwise about `normal`).
-    fn rectangle(corners: [DVec3; 4], normal: DVec3, surface: u32) -> SourcePolygon {
-        let centre = corners.iter().copied().sum::<DVec3>() / 4.0;
-        let radius = corners
-            .iter()
-            .map(|c| (*c - centre).length())
-            .fold(0.0, f64::max);
-        SourcePolygon {
-            vertices: corners,
-            count: 4,
-            normal,
-            surface,
-            centre,
-            radius,
-            patch: 0,
-        }
-    }
-
     #[test]
     fn where_the_probes_disagree_the_majority_of_the_upper_fan_decides() {
         let eye = DVec3::new(0.0, 0.0, 1e-7);
@@ -296,6 +278,9 @@ mod tests {
         // out and every other ray of the upper fan meets a wall's back.
         let (h, w) = (3.0, 0.5);
         let c = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let rectangle = |corners: [DVec3; 4], normal: DVec3, surface: u32| {
+            SourcePolygon::new(&corners, normal, surface)
+        };
         let walls = vec![
             square(DVec3::ZERO, 5.0, DVec3::Z, 0),
             rectangle(

@@ -49,11 +49,6 @@ impl<T> Ragged<T> {
         &mut self.items[self.starts[i]..self.starts[i + 1]]
     }
 
-    /// Every row's items, row after row.
-    pub(crate) fn items(&self) -> &[T] {
-        &self.items
-    }
-
     /// The rows in order.
     pub(crate) fn rows(&self) -> impl Iterator<Item = &[T]> + '_ {
         self.starts.windows(2).map(|w| &self.items[w[0]..w[1]])

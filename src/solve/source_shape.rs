@@ -629,7 +629,7 @@ impl SourceShapes {
     ) -> EntryFactors {
         // Per near entry, its factor, and how unsure its ratio is (see
         // `unsure` below).
-        let rows = Ragged::from_par_rows(leaves.len(), WEIGH_TASK, |n, out| {
+        let mut rows = Ragged::from_par_rows(leaves.len(), WEIGH_TASK, |n, out| {
             let k = leaves[n];
             let entries = form_factors.entries(k);
             let e = &mesh.elements[k];
@@ -653,8 +653,6 @@ impl SourceShapes {
                 out.push((entry.index, Rgb::ONE + (r - Rgb::ONE) * weight, unsure));
             }
         });
-        let unsure: Vec<f64> = rows.items().iter().map(|x| x.2).collect();
-        let mut factors = rows.map(|(i, r, _)| (i, r));
         // Per shaped patch, what its receivers gather from it with and
         // without the ratios, and with the ratios times how unsure each
         // is, summed in leaf order (the same bits at any thread count).
@@ -664,17 +662,14 @@ impl SourceShapes {
         // plus each near entry's departure from its mean.
         let mut with: Vec<Rgb> = without.iter().map(|&w| Rgb::splat(w)).collect();
         let mut with_unsure = with.clone();
-        let mut at = 0;
-        for (n, (&k, near)) in leaves.iter().zip(factors.rows()).enumerate() {
-            let near_unsure = &unsure[at..at + near.len()];
-            at += near.len();
+        for (n, (&k, near)) in leaves.iter().zip(rows.rows()).enumerate() {
             let e = &mesh.elements[k];
             if near.is_empty() || e.reflectance.max_band() <= 0.0 {
                 continue;
             }
             let area = e.area * row_scale(n);
             let entries = form_factors.entries(k);
-            for (&(i, ratio), &u) in near.iter().zip(near_unsure) {
+            for &(i, ratio, u) in near {
                 let (j, f) = entries[i as usize];
                 let s = self.slot[j as usize] as usize;
                 let w = area * f64::from(f);
@@ -688,16 +683,14 @@ impl SourceShapes {
                 Correction::of(target, with[s], with_unsure[s])
             })
             .collect();
-        let mut at = 0;
         for (n, &k) in leaves.iter().enumerate() {
             let entries = form_factors.entries(k);
-            let near = factors.row_mut(n);
-            for ((i, r), u) in near.iter_mut().zip(&unsure[at..]) {
+            for (i, r, u) in rows.row_mut(n) {
                 let j = entries[*i as usize].0;
                 *r = corrections[self.slot[j as usize] as usize].apply(*r, *u);
             }
-            at += near.len();
         }
+        let factors = rows.map(|(i, r, _)| (i, r));
         // Receivers not near a shaped patch gather its mean, wholly unsure.
         let mut patch = vec![Rgb::ONE; self.slot.len()];
         for (p, s) in self.slot.iter().enumerate() {
@@ -1609,7 +1602,7 @@ mod tests {
         let none = shapes
             .near_weights_within(mesh, ff, &leaves, None, 0)
             .unwrap();
-        let kept = |w: &NearWeights| w.near.items().iter().filter(|e| e.kept).count();
+        let kept = |w: &NearWeights| w.near.rows().flatten().filter(|e| e.kept).count();
         assert!(kept(&all) > 0);
         assert_eq!(kept(&none), 0);
         let a = shapes.factors(mesh, ff, &leaves, |_| 1.0, &all);

@@ -189,8 +189,6 @@ impl Hemicube {
         } else {
             f32::INFINITY
         };
-        // A face where nothing drawn lies nearer than `reach` (all of them
-        // when `reach` is 0) adds nothing to `near`: its depths are not read.
         // The slots touched are listed in a buffer with room for every
         // slot (a slot is listed when its first pixel is added, and every
         // delta form factor is positive, so at most once), kept between
@@ -223,6 +221,9 @@ impl Hemicube {
             }
             for j in d.j0..d.j1 {
                 let span = j * n + d.i0..j * n + d.i1;
+                // A face where nothing drawn lies nearer than `reach` (every
+                // face when `reach` is 0) adds nothing to `near`: its depths
+                // are not read.
                 if self.nearest[f] > least_inverse {
                     for (&z, &w) in self.depth[f][span.clone()]
                         .iter()
