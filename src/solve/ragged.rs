@@ -26,8 +26,15 @@ impl<T> Default for Ragged<T> {
 
 impl<T> Ragged<T> {
     /// Appends a row.
+    #[cfg(test)]
     pub(crate) fn push_row(&mut self, row: impl IntoIterator<Item = T>) {
         self.items.extend(row);
+        self.starts.push(self.items.len());
+    }
+
+    /// Appends a row of what `fill` pushes onto the items.
+    pub(crate) fn push_row_with(&mut self, fill: impl FnOnce(&mut Vec<T>)) {
+        fill(&mut self.items);
         self.starts.push(self.items.len());
     }
 

@@ -102,6 +102,10 @@ type PartWeights = Vec<(u32, f32)>;
 /// the end.
 const WEIGH_TASK: usize = 16;
 
+/// Leaves whose factors one parallel task takes: taking them is cheap
+/// (a weighted mean per near entry), so a task holds many.
+const FACTOR_BLOCK: usize = 256;
+
 /// Most part weights [`NearWeights`] keeps (8 bytes each: 256 MB); past
 /// them, in leaf order, receivers weigh the parts again each time the
 /// ratios are taken (the same weights, bit for bit, for more CPU). Kept
@@ -130,6 +134,11 @@ impl NearWeights {
     pub(crate) fn views(&self) -> usize {
         self.views
     }
+
+    /// The part weights that `entry` keeps.
+    fn kept_parts(&self, entry: &NearEntry) -> &[(u32, f32)] {
+        &self.weights[entry.parts.start as usize..entry.parts.end as usize]
+    }
 }
 
 /// How a shaped gather draws the hemi-cubes of receivers that look at a
@@ -139,6 +148,18 @@ pub(crate) struct PartViews<'a, 's> {
     pub scene: &'a dyn Fn() -> RowScene<'s>,
     /// Called with the views drawn so far and their number.
     pub progress: &'a (dyn Fn(usize, usize) + Sync),
+}
+
+/// Lists [`SourceShapes::important`] fills, kept from one leaf to the next
+/// (a receiver is near dozens of patches: lists of their own would be
+/// allocated, grown and freed per leaf).
+#[derive(Default)]
+struct ImportantScratch {
+    /// The entries near enough to weigh: (share, index in the row,
+    /// weight, swing times form factor and weight).
+    order: Vec<(f64, u32, f64, Rgb)>,
+    /// The entries kept, with their weights, in row order.
+    kept: Vec<(u32, f64)>,
 }
 
 /// An entry of a receiver's row to a shaped patch it is near.
@@ -506,32 +527,54 @@ impl SourceShapes {
         }
         let can_look = views.is_some();
         // In batches of leaves, so that what is kept stops at the budget
-        // at the same leaf on any number of threads.
+        // at the same leaf on any number of threads. A batch is a whole
+        // number of tasks, so that leaf `n` lies in task `n / WEIGH_TASK`.
+        const { assert!(WEIGH_BATCH.is_multiple_of(WEIGH_TASK)) };
         let mut near: Ragged<NearEntry> = Ragged::default();
-        let mut weights: Vec<(u32, f32)> = Vec::new();
+        let mut blocks: Vec<Vec<(u32, f32)>> = Vec::with_capacity(leaves.len() / WEIGH_TASK + 1);
+        let mut kept_count = 0;
         for batch in leaves.chunks(WEIGH_BATCH) {
-            let keep = weights.len() < budget;
+            let keep = kept_count < budget;
             // Per task, its leaves' entries and the weights they keep.
             type Weighed = (Ragged<NearEntry>, Vec<(u32, f32)>);
             let tasks: Vec<Weighed> = batch
                 .par_chunks(WEIGH_TASK)
-                .map(|task| {
+                .map_init(ImportantScratch::default, |scratch, task| {
                     let (mut entries, mut kept) = (Ragged::default(), Vec::new());
                     for &k in task {
-                        let row =
-                            self.near_entries(mesh, form_factors, k, can_look, keep, &mut kept);
-                        entries.push_row(row);
+                        entries.push_row_with(|out| {
+                            self.near_entries(
+                                mesh,
+                                form_factors,
+                                k,
+                                can_look,
+                                keep,
+                                &mut kept,
+                                out,
+                                scratch,
+                            );
+                        });
                     }
                     (entries, kept)
                 })
                 .collect();
             for (entries, kept) in tasks {
-                let offset = weights.len() as u32;
-                weights.extend(kept);
-                near.append(entries.map(|mut entry| {
+                kept_count += kept.len();
+                blocks.push(kept);
+                near.append(entries);
+            }
+        }
+        // The tasks' blocks in one, sized once: freed as one when the
+        // gather ends, not as hundreds of blocks the allocator keeps.
+        let mut weights: Vec<(u32, f32)> = Vec::with_capacity(kept_count);
+        for (t, block) in blocks.into_iter().enumerate() {
+            let offset = weights.len() as u32;
+            weights.extend(block);
+            let leaves_of_task = t * WEIGH_TASK..((t + 1) * WEIGH_TASK).min(leaves.len());
+            for n in leaves_of_task {
+                for entry in near.row_mut(n) {
                     entry.parts = entry.parts.start + offset..entry.parts.end + offset;
-                    entry
-                }));
+                }
             }
         }
         let (seen, views) = match views {
@@ -557,8 +600,9 @@ impl SourceShapes {
     }
 
     /// The near entries of leaf `k`'s row (see [`Self::near_weights`]),
-    /// their weights kept, when `keep`, at the end of `kept` (the entries'
-    /// ranges index it).
+    /// pushed onto `out`, their weights kept, when `keep`, at the end of
+    /// `kept` (the entries' ranges index it).
+    #[allow(clippy::too_many_arguments)]
     fn near_entries(
         &self,
         mesh: &Mesh,
@@ -567,20 +611,21 @@ impl SourceShapes {
         can_look: bool,
         keep: bool,
         kept: &mut Vec<(u32, f32)>,
-    ) -> SmallVec<[NearEntry; 4]> {
+        out: &mut Vec<NearEntry>,
+        scratch: &mut ImportantScratch,
+    ) {
         let e = &mesh.elements[k];
         // A receiver that reflects nothing passes no light on: it
         // gathers patch means and stays out of the sums, so that
         // skipping its row (see `crate::pipeline::Skips`) changes
         // nothing.
         if e.reflectance.max_band() <= 0.0 {
-            return SmallVec::new();
+            return;
         }
         let normal = mesh.surfaces()[e.surface as usize].normal;
         let entries = form_factors.entries(k);
-        let gathered = self.gathered(entries);
-        let mut out = SmallVec::new();
-        for (i, weight) in self.important(entries, e.centroid) {
+        let gathered = self.important(entries, e.centroid, scratch);
+        for &(i, weight) in &scratch.kept {
             let (j, f) = entries[i as usize];
             let start = kept.len();
             let Some(unoccluded) = self.weights_into(j, e.centroid, normal, kept) else {
@@ -606,7 +651,6 @@ impl SourceShapes {
                 hidden: hidden.clamp(0.0, 1.0),
             });
         }
-        out
     }
 
     /// The factors on the patch radiosities that the rows of `leaves` gather
@@ -629,7 +673,7 @@ impl SourceShapes {
     ) -> EntryFactors {
         // Per near entry, its factor, and how unsure its ratio is (see
         // `unsure` below).
-        let mut rows = Ragged::from_par_rows(leaves.len(), WEIGH_TASK, |n, out| {
+        let mut rows = Ragged::from_par_rows(leaves.len(), FACTOR_BLOCK, |n, out| {
             let k = leaves[n];
             let entries = form_factors.entries(k);
             let e = &mesh.elements[k];
@@ -639,7 +683,7 @@ impl SourceShapes {
                 let j = entries[entry.index as usize].0;
                 let shaped = &self.shaped[self.slot[j as usize] as usize];
                 let parts = if entry.kept {
-                    &near.weights[entry.parts.start as usize..entry.parts.end as usize]
+                    near.kept_parts(entry)
                 } else {
                     weighed.clear();
                     self.weights_into(j, e.centroid, normal, &mut weighed);
@@ -747,19 +791,6 @@ impl SourceShapes {
         total
     }
 
-    /// Per band, what a row of `entries` gathers from the means of shaped
-    /// patches.
-    fn gathered(&self, entries: &[(u32, f32)]) -> Rgb {
-        let mut gathered = Rgb::ZERO;
-        for &(j, f) in entries {
-            let s = self.slot[j as usize];
-            if s != u32::MAX {
-                gathered += self.shaped[s as usize].mean * f64::from(f);
-            }
-        }
-        gathered
-    }
-
     /// The entries of a row at `eye`, in row order, whose ratios are worth
     /// weighing, with the weight each ratio takes: those to shaped patches
     /// the eye is near (weighed down towards the edge of the reach), less
@@ -767,10 +798,13 @@ impl SourceShapes {
     /// row gathers from shaped patches by at most [`SKIPPED_SHARE`] in any
     /// band. The entry that crosses that budget is weighed by the part of it
     /// left over, so that nothing jumps when rounding reorders two entries
-    /// or moves one across the budget.
-    fn important(&self, entries: &[(u32, f32)], eye: DVec3) -> SmallVec<[(u32, f64); 16]> {
+    /// or moves one across the budget. They are left in `scratch.kept`;
+    /// returned is what the row gathers from the shaped patches' means.
+    fn important(&self, entries: &[(u32, f32)], eye: DVec3, scratch: &mut ImportantScratch) -> Rgb {
+        let ImportantScratch { order, kept } = scratch;
+        order.clear();
+        kept.clear();
         let mut gathered = Rgb::ZERO;
-        let mut near: SmallVec<[(u32, f64, Rgb); 16]> = SmallVec::new();
         for (i, &(j, f)) in entries.iter().enumerate() {
             let s = self.slot[j as usize];
             if s == u32::MAX {
@@ -781,7 +815,8 @@ impl SourceShapes {
             gathered += shaped.mean * f;
             let weight = shaped.nearness(eye);
             if weight > 0.0 {
-                near.push((i as u32, weight, shaped.swing * (f * weight)));
+                // Its share is set below, once `gathered` is whole.
+                order.push((0.0, i as u32, weight, shaped.swing * (f * weight)));
             }
         }
         let share = |swing: &Rgb| {
@@ -790,13 +825,11 @@ impl SourceShapes {
                 .map(|band| swing[band] / gathered[band])
                 .fold(0.0, f64::max)
         };
-        let mut order: SmallVec<[(f64, u32, f64, Rgb); 16]> = near
-            .into_iter()
-            .map(|(i, weight, swing)| (share(&swing), i, weight, swing))
-            .collect();
+        for entry in order.iter_mut() {
+            entry.0 = share(&entry.3);
+        }
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut skipped = Rgb::ZERO;
-        let mut kept: SmallVec<[(u32, f64); 16]> = SmallVec::new();
         for (n, &(own, i, weight, swing)) in order.iter().enumerate() {
             if share(&(skipped + swing)) <= SKIPPED_SHARE {
                 skipped += swing;
@@ -809,7 +842,7 @@ impl SourceShapes {
             break;
         }
         kept.sort_unstable_by_key(|x| x.0);
-        kept
+        gathered
     }
 
     /// Per band, the ratio of what a receiver at `eye` facing `normal` sees
@@ -842,16 +875,11 @@ impl SourceShapes {
         let shaped = &self.shaped[s as usize];
         let start = out.len();
         let mut weight = 0.0;
-        out.extend(
-            shaped
-                .weighed_parts(eye, normal)
-                .into_iter()
-                .map(|(part, w)| {
-                    let w = w * shaped.parts[part as usize].share;
-                    weight += w;
-                    (part, w as f32)
-                }),
-        );
+        shaped.each_weighed_part(eye, normal, |part, w| {
+            let w = w * shaped.parts[part as usize].share;
+            weight += w;
+            out.push((part, w as f32));
+        });
         if weight > 0.0 {
             Some(weight)
         } else {
@@ -931,6 +959,13 @@ impl Shaped {
     /// Together they tile what the receiver can see of the patch.
     fn weighed_parts(&self, eye: DVec3, normal: DVec3) -> SmallVec<[(u32, f64); 64]> {
         let mut out = SmallVec::new();
+        self.each_weighed_part(eye, normal, |i, f| out.push((i, f)));
+        out
+    }
+
+    /// [`Self::weighed_parts`], each handed to `weighed` in the same order
+    /// (no list to build and move: receivers weigh hundreds of thousands).
+    fn each_weighed_part(&self, eye: DVec3, normal: DVec3, mut weighed: impl FnMut(u32, f64)) {
         let mut stack: SmallVec<[u32; 64]> = (0..self.top as u32).rev().collect();
         while let Some(i) = stack.pop() {
             let part = &self.parts[i as usize];
@@ -943,9 +978,8 @@ impl Shaped {
                 continue;
             }
             let f = source.form_factor_within_given(eye, normal, WEIGHT_FAR, || part.area_centroid);
-            out.push((i, f));
+            weighed(i, f);
         }
-        out
     }
 
     /// Per band, the mean of the parts' values by `weights` over the
