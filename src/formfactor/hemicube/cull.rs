@@ -10,6 +10,7 @@
 //! the scene's polygon count.
 
 use super::faces::Face;
+use super::id_set::IdSet;
 use super::{Hemicube, BACK_FACE};
 use crate::formfactor::bvh_walk::box_below;
 use crate::formfactor::visibility::unit;
@@ -176,13 +177,15 @@ impl Between {
 impl Cull<'_> {
     /// Lists in `ids` (sorted) the polygons to draw from `frame` and in
     /// `splats` the BVH nodes to draw as one sample; returns how many polygons
-    /// were left out below the horizon.
+    /// were left out below the horizon. `found` is scratch, empty before and
+    /// after.
     /// With `within` (none: everything), only what may lie in one of them.
     pub(super) fn visible(
         &self,
         frame: &Frame,
         ids: &mut Vec<u32>,
         splats: &mut Vec<u32>,
+        found: &mut IdSet,
         within: &[Between],
     ) -> u64 {
         ids.clear();
@@ -223,11 +226,9 @@ impl Cull<'_> {
             }
             if node.is_leaf() {
                 let first = node.first_index as usize;
-                ids.extend(
-                    bvh.primitive_indices[first..first + node.prim_count as usize]
-                        .iter()
-                        .copied(),
-                );
+                for &id in &bvh.primitive_indices[first..first + node.prim_count as usize] {
+                    found.insert(id);
+                }
             } else {
                 // Right first, so that left subtrees come out first.
                 stack.push(node.first_index + 1);
@@ -236,7 +237,7 @@ impl Cull<'_> {
         }
         // The full pass's order, so that ties in the depth test go the same
         // way.
-        ids.sort_unstable();
+        found.drain_into(ids);
         culled
     }
 }

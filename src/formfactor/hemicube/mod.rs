@@ -6,8 +6,9 @@
 //! `row.rs`), scan conversion (`raster.rs`), the hybrid form-factor policy
 //! (`hybrid.rs`) and its emitter entries (`emitters.rs`), what a shooter's
 //! item buffer needs (`coverage.rs`), what a receiver sees of a patch part
-//! by part (`parts.rs`), the rectangles drawn into (`drawn.rs`) and the work
-//! counters (`stats.rs`).
+//! by part (`parts.rs`), the rectangles drawn into (`drawn.rs`), the
+//! polygons found to draw, in id order (`id_set.rs`), and the work counters
+//! (`stats.rs`).
 
 mod coverage;
 mod cull;
@@ -15,6 +16,7 @@ mod drawn;
 mod emitters;
 mod faces;
 mod hybrid;
+mod id_set;
 mod parts;
 mod raster;
 mod row;
@@ -75,6 +77,8 @@ pub struct Hemicube {
     /// (reused buffers; see `cull.rs`).
     candidates: Vec<u32>,
     splats: Vec<u32>,
+    /// The polygons found to draw, before they are listed in order.
+    found: id_set::IdSet,
     /// Clear and read out only the drawn rectangles (true by default); false
     /// treats every face as wholly drawn, as a check that skipping changes
     /// nothing.
@@ -109,6 +113,7 @@ impl Hemicube {
             nearest: [0.0; 5],
             candidates: Vec::new(),
             splats: Vec::new(),
+            found: id_set::IdSet::default(),
             skip_empty: true,
             stats: HemicubeStats::default(),
         }

@@ -60,7 +60,8 @@ impl Hemicube {
             .unwrap_or_default();
         match cull {
             Some(cull) => {
-                let culled = cull.visible(&frame, &mut ids, &mut self.splats, &within);
+                let culled =
+                    cull.visible(&frame, &mut ids, &mut self.splats, &mut self.found, &within);
                 self.stats.polygons_culled += culled;
             }
             None => ids.extend(0..sources.polygons.len() as u32),
