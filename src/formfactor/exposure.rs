@@ -162,12 +162,14 @@ impl Occluders {
             if p.surface == skip {
                 return f32::INFINITY;
             }
-            let Some(t) = hit_distance(&p.vertices[..p.count as usize], p.normal, eye, dir) else {
+            // A hit at or beyond the nearest so far changes nothing: neither
+            // `nearest` nor the ray's end, which it already set nearer.
+            let beyond = nearest.map_or(f64::INFINITY, |(best, _)| best);
+            let Some(t) = hit_distance(&p.vertices[..p.count as usize], p.normal, eye, dir, beyond)
+            else {
                 return f32::INFINITY;
             };
-            if nearest.is_none_or(|(best, _)| t < best) {
-                nearest = Some((t, p.normal.dot(dir) < 0.0));
-            }
+            nearest = Some((t, p.normal.dot(dir) < 0.0));
             (t + self.pad) as f32
         });
         nearest.map(|(_, front)| front)
@@ -176,13 +178,18 @@ impl Occluders {
 
 /// Distance along the ray from `a` along unit `dir` to the convex planar
 /// polygon `v` (counter-clockwise about unit `normal`), if it hits beyond a
-/// rounding margin.
-fn hit_distance(v: &[DVec3], normal: DVec3, a: DVec3, dir: DVec3) -> Option<f64> {
+/// rounding margin and before `beyond` (a hit already found: a polygon
+/// whose plane lies beyond it is not tested further).
+fn hit_distance(v: &[DVec3], normal: DVec3, a: DVec3, dir: DVec3, beyond: f64) -> Option<f64> {
     let denom = normal.dot(dir);
     if denom.abs() < 1e-15 {
         return None;
     }
     let t = normal.dot(v[0] - a) / denom;
+    // False for NaN, which the next test turns away.
+    if t >= beyond {
+        return None;
+    }
     let scale = (v[0] - a).length();
     if t.is_nan() || t <= 1e-12 * scale {
         return None;
