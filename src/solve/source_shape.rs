@@ -564,8 +564,9 @@ impl SourceShapes {
                 near.append(entries);
             }
         }
-        // The tasks' blocks in one, sized once: freed as one when the
-        // gather ends, not as hundreds of blocks the allocator keeps.
+        // The tasks' blocks in one vector, sized once (joined as they came,
+        // it grew by doubling, copying what it held each time), with each
+        // entry's range moved by where its task's block now starts.
         let mut weights: Vec<(u32, f32)> = Vec::with_capacity(kept_count);
         for (t, block) in blocks.into_iter().enumerate() {
             let offset = weights.len() as u32;
