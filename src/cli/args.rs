@@ -220,11 +220,14 @@ pub struct SolveSettingsArgs {
     /// Hemi-cube resolution: pixels across the top face (even).
     #[arg(long = "hemicube-res", default_value_t = 64)]
     pub hemicube_res: usize,
-    /// Visibility of light sources seen in part: exact at each element's
-    /// centre (centre), or exact and averaged over points of each element
-    /// (element: far more accurate penumbrae, slightly less accurate means
-    /// at the default patch size).
-    #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "element"])]
+    /// Visibility of light sources: exact at each element's centre (centre;
+    /// a shadow edge across a large element can then take much of its
+    /// light, or none); exact and averaged over points of each element
+    /// where something hides part of a light from some of them, at the
+    /// centre where nothing does (shadowed: with --part-views, the most
+    /// accurate per-object means in cluttered scenes, for about 1.3x the
+    /// time); or averaged over the points everywhere (element).
+    #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "shadowed", "element"])]
     pub emitter_samples: String,
     /// Largest patch edge in metres [default: the scene's size / 10: its diagonal, less far outliers holding little area].
     #[arg(long = "patch-size")]

@@ -48,6 +48,20 @@ pub enum EmitterSampling {
     /// The exact visible form factor averaged over Gauss points of the
     /// element: its mean rather than its centre's value.
     Element,
+    /// [`Self::Element`] where something hides part of the emitter from some
+    /// Gauss point of the element (or a point sees none of its front), and
+    /// the unoccluded form factor at the centre, as [`Self::Centre`] has it,
+    /// where nothing does. Where a shadow edge crosses an element the
+    /// centre alone can be off by much of the element's light (a box side
+    /// lit past its neighbours came out 20% dark in direct light on
+    /// `many_boxes`); where the emitter is in full view the form factor
+    /// varies smoothly across the element, and the centre's value keeps the
+    /// closed boxes as accurate as before (the Cornell box 0.116% mean
+    /// against 0.138% at the centre and 0.154% with the points everywhere).
+    /// Not the default yet: about 1.06x the CPU time of the Cornell box and
+    /// 1.3x that of the 10 000-triangle atrium, whose mean error it does not
+    /// move without part views (with them, 0.63% against 0.68%).
+    Shadowed,
 }
 
 impl FromStr for EmitterSampling {
@@ -58,8 +72,9 @@ impl FromStr for EmitterSampling {
             "rays" => Ok(EmitterSampling::Rays),
             "centre" => Ok(EmitterSampling::Centre),
             "element" => Ok(EmitterSampling::Element),
+            "shadowed" => Ok(EmitterSampling::Shadowed),
             _ => Err(format!(
-                "unknown emitter sampling '{s}' (pixels, rays, centre or element)"
+                "unknown emitter sampling '{s}' (pixels, rays, centre, element or shadowed)"
             )),
         }
     }

@@ -306,6 +306,11 @@ impl<'a> RowScene<'a> {
             return (row, stats);
         }
         let before = cube.stats;
+        // The Gauss points of an element lit without shadow give way to its
+        // centre (see `EmitterSampling::Shadowed`); a partly covered
+        // element's visible points are its mean in every mode.
+        let centre_where_clear =
+            view.coverage.is_none() && self.settings.emitter_sampling == EmitterSampling::Shadowed;
         let samples = if self.emitters_exact {
             match (self.settings.emitter_sampling, &view.coverage) {
                 (EmitterSampling::Rays | EmitterSampling::Pixels, _) => Samples::new(),
@@ -313,7 +318,7 @@ impl<'a> RowScene<'a> {
                 // points would count the covered part twice, as its row is
                 // scaled by the visible share already.
                 (_, Some(c)) => c.samples.clone(),
-                (EmitterSampling::Element, None) => {
+                (EmitterSampling::Element | EmitterSampling::Shadowed, None) => {
                     element_samples(&lattice.polygon(&e.cell), view.lift)
                 }
                 (EmitterSampling::Centre, None) => {
@@ -332,6 +337,7 @@ impl<'a> RowScene<'a> {
                 occluders: o,
                 seed: view.seed,
                 samples: &samples,
+                centre_where_clear,
             });
         let mut row = cube.row_for(&request);
         if let Some(c) = &view.coverage {

@@ -100,6 +100,11 @@ impl<'a> Shaft<'a> {
             || toward_eye.dot(centre - self.eye) > r
     }
 
+    /// The point the shaft starts from.
+    pub(super) fn eye(&self) -> DVec3 {
+        self.eye
+    }
+
     /// True when the box (`lo`, `hi`) lies wholly outside one of the planes
     /// [`Self::shadow_of`] clips to, so that nothing in it hides anything:
     /// the same rule as [`Self::misses`], for a BVH node.
@@ -121,6 +126,19 @@ impl<'a> Shaft<'a> {
         // Keep the part strictly between the light's plane and the eye.
         let toward_eye = self.light_normal * self.eye_height.signum();
         let margin = 1e-9 * self.eye_height.abs();
+        let near = self.eye - toward_eye * margin;
+        // An occluder wholly outside any one of the planes hides nothing.
+        // Most that reach here lie so (a wall beside the shaft, crossing
+        // the light's plane): finding it before clipping to the others
+        // saves the clipping.
+        let outside = |p: DVec3, n: DVec3| occluder.iter().all(|x| n.dot(*x - p) < 0.0);
+        if outside(self.light[0] + toward_eye * margin, toward_eye)
+            || outside(self.eye, self.horizon)
+            || self.sides.iter().any(|n| outside(self.eye, *n))
+            || outside(near, -toward_eye)
+        {
+            return None;
+        }
         let mut p: Piece = SmallVec::from_slice(occluder);
         clip_in_place(&mut p, self.light[0] + toward_eye * margin, toward_eye);
         if p.len() < 3 {
@@ -139,7 +157,6 @@ impl<'a> Shaft<'a> {
                 return None;
             }
         }
-        let near = self.eye - toward_eye * margin;
         clip_in_place(&mut p, near, -toward_eye);
         if p.len() < 3 {
             return None;

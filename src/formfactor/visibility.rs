@@ -65,6 +65,10 @@ pub(crate) struct EmitterVisibility<'a> {
     /// empty, emitter visibility is ray cast at the centre instead of clipped
     /// exactly at the points.
     pub samples: &'a [(DVec3, f64)],
+    /// Where nothing in any point's shaft hides part of an emitter, take the
+    /// form factor at the element's centre instead of the points' mean (see
+    /// [`super::EmitterSampling::Shadowed`]).
+    pub centre_where_clear: bool,
 }
 
 /// Every patch polygon as an occluder, for shadow rays.
@@ -370,6 +374,17 @@ impl Occluders {
     /// The mean over `samples` (points of the receiving element, with weights
     /// summing to 1) of the visible form factor to patch `target`, each computed
     /// exactly by clipping; `None` if any point needs the rays instead.
+    ///
+    /// The BVH is walked once for all the points: a node is entered when any
+    /// point's shaft may hold something in it; the first point clips what
+    /// its shaft holds there and then, and each other point later clips the
+    /// polygons its own shaft may hold. Each point gets the same shadows
+    /// in the same order as a walk of its own would give it (a polygon in a
+    /// node its shaft misses clips to nothing), so the result is the same as
+    /// point by point, for one walk instead of one per point.
+    ///
+    /// `clear`, when given, is returned instead where every point sees the
+    /// front of the whole light and nothing in its shaft hides any of it.
     #[must_use]
     pub(crate) fn mean_visible_form_factor(
         &self,
@@ -378,56 +393,61 @@ impl Occluders {
         normal: DVec3,
         own_surface: u32,
         target: u32,
-    ) -> Option<f64> {
-        let mut sum = 0.0;
-        for &(point, weight) in samples {
-            sum += weight * self.exact_visible(sources, point, normal, own_surface, target)?;
-        }
-        Some(sum)
-    }
-
-    /// The exact form factor from (`eye`, `normal`) to the part of patch
-    /// `target` that no polygon blocks, by cutting the shadows of the polygons
-    /// in the shaft out of the target; `None` when the shaft holds too many of
-    /// them or the geometry is degenerate for projection (the rays decide then).
-    fn exact_visible(
-        &self,
-        sources: &Sources,
-        eye: DVec3,
-        normal: DVec3,
-        own_surface: u32,
-        target: u32,
+        clear: Option<f64>,
     ) -> Option<f64> {
         let poly = &sources.polygons[target as usize];
         let light = &poly.vertices[..poly.count as usize];
-        let full = point_to_polygon(eye, normal, light);
-        // An emitter shines from its front only.
-        if full <= 0.0 || poly.normal.dot(eye - light[0]) <= 0.0 {
+        let mut points: SmallVec<[PointShaft<'_>; 4]> = SmallVec::new();
+        for &(eye, weight) in samples {
+            let full = point_to_polygon(eye, normal, light);
+            // An emitter shines from its front only.
+            if full <= 0.0 || poly.normal.dot(eye - light[0]) <= 0.0 {
+                continue;
+            }
+            points.push(PointShaft {
+                weight,
+                full,
+                shaft: Shaft::new(eye, normal, light, poly.normal)?,
+            });
+        }
+        if points.is_empty() {
             return Some(0.0);
         }
-        let shaft = Shaft::new(eye, normal, light, poly.normal)?;
-        let mut shadows: Vec<Piece> = Vec::new();
+        // A point that does not see the light's front at all is as good as
+        // a shadow: the light's visibility changes across the element.
+        let mut shadowed = points.len() < samples.len();
+        // The first point clips what it holds as the walk meets it, so that
+        // a shaft holding too many shadows ends the walk early, as it does
+        // for the centre alone; the polygons the other points may hold are
+        // kept for them. Both in the BVH's order, which is fixed by its
+        // build, so that each point's pieces (and the sum over them) come
+        // out the same on every run.
+        let (first, others) = points.split_first().expect("points is not empty");
+        let mut first_shadows: SmallVec<[Piece; 4]> = SmallVec::new();
+        let mut held: SmallVec<[u32; 32]> = SmallVec::new();
         let mut overflow = false;
-        // Only the nodes the shaft's planes do not cut away: a shaft's
+        // Only the nodes some shaft's planes do not cut away: a shaft's
         // bounding box holds many polygons its thin pyramid misses.
         walk(
             &self.bvh,
             self.centre,
-            |lo, hi| !shaft.misses_box(lo, hi),
+            |lo, hi| points.iter().any(|p| !p.shaft.misses_box(lo, hi)),
             |id| {
                 let p = &sources.polygons[id];
-                if p.surface == own_surface
-                    || p.surface == poly.surface
-                    || shaft.misses(p.centre, p.radius)
-                {
+                if p.surface == own_surface || p.surface == poly.surface {
                     return true;
                 }
-                if let Some(shadow) = shaft.shadow_of(p.corners()) {
-                    shadows.push(shadow);
-                    if shadows.len() > MAX_OCCLUDERS {
-                        overflow = true;
-                        return false;
+                if !first.shaft.misses(p.centre, p.radius) {
+                    if let Some(shadow) = first.shaft.shadow_of(p.corners()) {
+                        first_shadows.push(shadow);
+                        if first_shadows.len() > MAX_OCCLUDERS {
+                            overflow = true;
+                            return false;
+                        }
                     }
+                }
+                if others.iter().any(|s| !s.shaft.misses(p.centre, p.radius)) {
+                    held.push(id as u32);
                 }
                 true
             },
@@ -435,23 +455,18 @@ impl Occluders {
         if overflow {
             return None;
         }
-        if shadows.is_empty() {
-            return Some(full);
+        let mut sum =
+            first.weight * first.visible_past(&first_shadows, light, normal, poly.normal)?;
+        shadowed |= !first_shadows.is_empty();
+        for point in others {
+            let shadows = point.shadows(sources, &held)?;
+            sum += point.weight * point.visible_past(&shadows, light, normal, poly.normal)?;
+            shadowed |= !shadows.is_empty();
         }
-        // The BVH's traversal order is fixed by its build, so the pieces (and
-        // the sum over them) come out the same on every run.
-        let mut pieces = vec![Piece::from_slice(light)];
-        let min_area = sliver_area(light);
-        for shadow in &shadows {
-            if !subtract(&mut pieces, shadow, poly.normal, min_area) {
-                return None;
-            }
-            if pieces.is_empty() {
-                return Some(0.0);
-            }
+        match clear {
+            Some(clear) if !shadowed => Some(clear),
+            _ => Some(sum),
         }
-        // What is left of the light can be no more than all of it.
-        Some(pieces_form_factor(eye, normal, &pieces).clamp(0.0, full))
     }
 
     /// The fraction of the form factor from (`eye`, `normal`) to patch `target`
@@ -551,4 +566,170 @@ pub(crate) fn crosses(v: &[DVec3], normal: DVec3, a: DVec3, dir: DVec3, length: 
     let p = a + dir * t;
     let m = v.len();
     (0..m).all(|i| (v[(i + 1) % m] - v[i]).cross(p - v[i]).dot(normal) >= 0.0)
+}
+
+/// One point of a receiving element with its weight and its shaft to a
+/// light (see [`Occluders::mean_visible_form_factor`]).
+struct PointShaft<'a> {
+    weight: f64,
+    /// The unoccluded form factor from the point to the light.
+    full: f64,
+    shaft: Shaft<'a>,
+}
+
+impl PointShaft<'_> {
+    /// The shadows on the light of the polygons `held` (in the BVH's order)
+    /// that the shaft holds; `None` when there are more than
+    /// [`MAX_OCCLUDERS`] (the rays decide then).
+    fn shadows(&self, sources: &Sources, held: &[u32]) -> Option<SmallVec<[Piece; 4]>> {
+        let mut shadows = SmallVec::new();
+        for &id in held {
+            let p = &sources.polygons[id as usize];
+            if self.shaft.misses(p.centre, p.radius) {
+                continue;
+            }
+            if let Some(shadow) = self.shaft.shadow_of(p.corners()) {
+                shadows.push(shadow);
+                if shadows.len() > MAX_OCCLUDERS {
+                    return None;
+                }
+            }
+        }
+        Some(shadows)
+    }
+
+    /// The form factor from the point to the part of `light` that
+    /// `shadows` leave, by cutting them out of it; `None` when the geometry
+    /// is degenerate for projection (the rays decide then).
+    fn visible_past(
+        &self,
+        shadows: &[Piece],
+        light: &[DVec3],
+        normal: DVec3,
+        light_normal: DVec3,
+    ) -> Option<f64> {
+        if shadows.is_empty() {
+            return Some(self.full);
+        }
+        let mut pieces = vec![Piece::from_slice(light)];
+        let min_area = sliver_area(light);
+        for shadow in shadows {
+            if !subtract(&mut pieces, shadow, light_normal, min_area) {
+                return None;
+            }
+            if pieces.is_empty() {
+                return Some(0.0);
+            }
+        }
+        // What is left of the light can be no more than all of it.
+        Some(pieces_form_factor(self.shaft.eye(), normal, &pieces).clamp(0.0, self.full))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formfactor::SourcePolygon;
+
+    /// A square of half-width `half` centred at `centre` in a plane of
+    /// constant z, facing `normal` (+Z or -Z).
+    fn square(centre: DVec3, half: f64, normal: DVec3, surface: u32) -> SourcePolygon {
+        let (t1, t2) = normal.any_orthonormal_pair();
+        let corners = [
+            centre - t1 * half - t2 * half,
+            centre + t1 * half - t2 * half,
+            centre + t1 * half + t2 * half,
+            centre - t1 * half + t2 * half,
+        ];
+        SourcePolygon::new(&corners, normal, surface)
+    }
+
+    /// A floor (surface 0) under a light facing down at z = 2 (surface 1,
+    /// polygon 1), with small screens scattered at z = 1 (facing either
+    /// way) that hide parts of the light from parts of the floor.
+    fn lit_floor() -> Sources {
+        let mut polygons = vec![
+            square(DVec3::ZERO, 4.0, DVec3::Z, 0),
+            square(DVec3::new(0.0, 0.0, 2.0), 0.5, DVec3::NEG_Z, 1),
+        ];
+        for i in 0..12u32 {
+            let a = f64::from(i) * 0.9;
+            let centre = DVec3::new(0.6 * a.cos(), 0.6 * a.sin(), 1.0 + 0.02 * f64::from(i));
+            let normal = if i % 2 == 0 { DVec3::Z } else { DVec3::NEG_Z };
+            polygons.push(square(centre, 0.08, normal, 2 + i));
+        }
+        Sources::one_per_patch(polygons)
+    }
+
+    /// Four points of a square element of half-width `half` at `(x, y)` on
+    /// the floor, with equal weights.
+    fn element(x: f64, y: f64, half: f64) -> [(DVec3, f64); 4] {
+        let lift = 1e-7;
+        let g = half / 3f64.sqrt();
+        [(-g, -g), (g, -g), (-g, g), (g, g)]
+            .map(|(dx, dy)| (DVec3::new(x + dx, y + dy, lift), 0.25))
+    }
+
+    #[test]
+    fn one_walk_gives_each_point_what_a_walk_of_its_own_gives() {
+        let sources = lit_floor();
+        let occluders = Occluders::new(&sources);
+        let mut shadowed = 0;
+        for i in 0..40 {
+            let (x, y) = (-1.5 + 0.075 * f64::from(i), 0.4 - 0.02 * f64::from(i));
+            let points = element(x, y, 0.1);
+            let together =
+                occluders.mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, None);
+            let mut alone = Some(0.0);
+            for &(p, w) in &points {
+                let one =
+                    occluders.mean_visible_form_factor(&sources, &[(p, 1.0)], DVec3::Z, 0, 1, None);
+                alone = alone.zip(one).map(|(sum, f)| sum + w * f);
+            }
+            assert_eq!(
+                together.map(f64::to_bits),
+                alone.map(f64::to_bits),
+                "at ({x}, {y}): {together:?} against {alone:?}"
+            );
+            let unoccluded: f64 = points
+                .iter()
+                .map(|&(p, w)| w * point_to_polygon(p, DVec3::Z, sources.polygons[1].corners()))
+                .sum();
+            if together.is_some_and(|f| f < unoccluded * (1.0 - 1e-9)) {
+                shadowed += 1;
+            }
+        }
+        // The screens hide part of the light from some of the elements.
+        assert!(shadowed >= 5, "{shadowed} of 40 elements in shadow");
+    }
+
+    #[test]
+    fn the_centre_stands_for_an_element_only_where_nothing_hides_the_light() {
+        let sources = lit_floor();
+        let occluders = Occluders::new(&sources);
+        let centre = 0.123;
+        let (mut shadowed, mut clear_ones) = (0, 0);
+        for i in 0..40 {
+            let (x, y) = (-1.5 + 0.075 * f64::from(i), 0.4 - 0.02 * f64::from(i));
+            let points = element(x, y, 0.1);
+            let mean = occluders
+                .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, None)
+                .unwrap();
+            let clear = occluders
+                .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, Some(centre))
+                .unwrap();
+            let unoccluded: f64 = points
+                .iter()
+                .map(|&(p, w)| w * point_to_polygon(p, DVec3::Z, sources.polygons[1].corners()))
+                .sum();
+            if (mean - unoccluded).abs() > 1e-12 * unoccluded {
+                assert_eq!(clear.to_bits(), mean.to_bits(), "shadowed at ({x}, {y})");
+                shadowed += 1;
+            } else {
+                assert_eq!(clear, centre, "clear at ({x}, {y})");
+                clear_ones += 1;
+            }
+        }
+        assert!(shadowed > 0 && clear_ones > 0, "{shadowed} {clear_ones}");
+    }
 }

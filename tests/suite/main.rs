@@ -12,6 +12,7 @@ mod contacts;
 mod converge;
 mod determinism;
 mod emissive_textures;
+mod emitter_sampling;
 mod enclosures;
 mod energy;
 mod facing;

@@ -123,8 +123,9 @@ impl Hemicube {
 }
 
 /// The visible form factor of the seen polygon `s`: the element's mean where
-/// every sample point can be clipped exactly, else the centre's with
-/// ray-cast visibility.
+/// every sample point can be clipped exactly (the centre's unoccluded form
+/// factor instead where the sampling asks for it and nothing hides any of
+/// the emitter from any point), else the centre's with ray-cast visibility.
 fn exact(
     sources: &Sources,
     visibility: &EmitterVisibility<'_>,
@@ -138,11 +139,13 @@ fn exact(
         occluders,
         seed,
         samples,
+        centre_where_clear,
     } = *visibility;
     let exact_mean = if samples.is_empty() {
         None
     } else {
-        occluders.mean_visible_form_factor(sources, samples, normal, own_surface, s.polygon)
+        let clear = centre_where_clear.then_some(s.unoccluded);
+        occluders.mean_visible_form_factor(sources, samples, normal, own_surface, s.polygon, clear)
     };
     exact_mean.unwrap_or_else(|| {
         s.unoccluded
