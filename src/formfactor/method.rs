@@ -58,7 +58,7 @@ pub enum EmitterSampling {
     /// varies smoothly across the element, and the centre's value keeps the
     /// closed boxes as accurate as before (the Cornell box 0.116% mean
     /// against 0.138% at the centre and 0.154% with the points everywhere).
-    /// Not the default yet: about 1.06x the CPU time of the Cornell box and
+    /// Not the default yet: about 1.07x the CPU time of the Cornell box and
     /// 1.3x that of the 10 000-triangle atrium, whose mean error it does not
     /// move without part views (with them, 0.63% against 0.68%).
     Shadowed,
