@@ -106,6 +106,14 @@ const WEIGH_TASK: usize = 16;
 /// (a weighted mean per near entry), so a task holds many.
 const FACTOR_BLOCK: usize = 256;
 
+/// A leaf's part views: per entry drawn, (leaf, index in its near entries,
+/// the parts' weights by what it sees, or `None` where no pixel shows one).
+type LeafViews = SmallVec<[(usize, usize, Option<PartWeights>); 2]>;
+
+/// Part views are drawn this many receivers at a time, and their weights
+/// handed over before the next batch is drawn.
+const VIEW_BATCH: usize = 8192;
+
 /// Most part weights [`NearWeights`] keeps (8 bytes each: 256 MB); past
 /// them, in leaf order, receivers weigh the parts again each time the
 /// ratios are taken (the same weights, bit for bit, for more CPU). Kept
@@ -578,20 +586,24 @@ impl SourceShapes {
                 }
             }
         }
-        let (seen, views) = match views {
-            Some(scene) => self.seen_weights(mesh, form_factors, leaves, &near, scene),
-            None => (Vec::new(), 0),
-        };
-        for (n, m, by_view) in seen {
-            if let Some(parts) = by_view {
-                // Weighed by what it sees: sure.
-                let start = weights.len() as u32;
-                weights.extend(parts);
-                let entry = &mut near.row_mut(n)[m];
-                entry.parts = start..weights.len() as u32;
-                entry.kept = true;
-                entry.hidden = 0.0;
+        // Per entry weighed by what its leaf sees: (leaf, entry, its weights).
+        let mut seen: Vec<(usize, usize, std::ops::Range<u32>)> = Vec::new();
+        let views = match views {
+            Some(scene) => {
+                self.seen_weights(mesh, form_factors, leaves, &near, scene, |n, m, parts| {
+                    let start = weights.len() as u32;
+                    weights.extend(parts);
+                    seen.push((n, m, start..weights.len() as u32));
+                })
             }
+            None => 0,
+        };
+        for (n, m, parts) in seen {
+            // Weighed by what it sees: sure.
+            let entry = &mut near.row_mut(n)[m];
+            entry.parts = parts;
+            entry.kept = true;
+            entry.hidden = 0.0;
         }
         Some(NearWeights {
             near,
@@ -893,9 +905,9 @@ impl SourceShapes {
     /// too little of the parts, the parts' weights by what the leaf sees:
     /// each part's unoccluded form factor times the share of its pixels that
     /// the leaf's hemi-cube, drawn with the patch part by part (see
-    /// [`RowScene::with_part_views`]), shows: (leaf, index in its near
-    /// entries, weights), in leaf order; the weights are `None` where no
-    /// pixel shows a part. With the number of hemi-cubes drawn.
+    /// [`RowScene::with_part_views`]), shows, each handed to `take` as
+    /// (leaf, index in its near entries, weights), in leaf order (none where
+    /// no pixel shows a part). Returns the number of hemi-cubes drawn.
     fn seen_weights<'s>(
         &self,
         mesh: &Mesh,
@@ -903,16 +915,55 @@ impl SourceShapes {
         leaves: &[ElementKey],
         near: &Ragged<NearEntry>,
         views: &PartViews<'_, 's>,
-    ) -> (Vec<(usize, usize, Option<PartWeights>)>, usize) {
+        mut take: impl FnMut(usize, usize, PartWeights),
+    ) -> usize {
         let which: Vec<usize> = (0..leaves.len())
             .filter(|&n| near.row(n).iter().any(|x| x.look))
             .collect();
         if which.is_empty() {
-            return (Vec::new(), 0);
+            return 0;
         }
         let scene = (views.scene)();
         let keys: Vec<ElementKey> = which.iter().map(|&n| leaves[n]).collect();
-        let ratios = scene.with_part_views(&keys, views.progress, |index, view| {
+        // In batches, each handed over before the next is drawn: all at
+        // once, the weights of every view were held twice at the end.
+        for (b, batch) in keys.chunks(VIEW_BATCH).enumerate() {
+            let offset = b * VIEW_BATCH;
+            let progress = |done: usize, _| (views.progress)(offset + done, keys.len());
+            let seen = self.seen_batch(
+                mesh,
+                form_factors,
+                leaves,
+                near,
+                &which[offset..],
+                &scene,
+                batch,
+                &progress,
+            );
+            for (n, m, by_view) in seen.into_iter().flatten() {
+                if let Some(parts) = by_view {
+                    take(n, m, parts);
+                }
+            }
+        }
+        keys.len()
+    }
+
+    /// [`Self::seen_weights`] for the leaves `keys`, whose indices in
+    /// `leaves` are `which` (from its start), drawn with `scene`.
+    #[allow(clippy::too_many_arguments)]
+    fn seen_batch<'s>(
+        &self,
+        mesh: &Mesh,
+        form_factors: &FormFactors,
+        leaves: &[ElementKey],
+        near: &Ragged<NearEntry>,
+        which: &[usize],
+        scene: &RowScene<'s>,
+        keys: &[ElementKey],
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Vec<LeafViews> {
+        scene.with_part_views(keys, progress, |index, view| {
             let n = which[index];
             let k = leaves[n];
             let e = &mesh.elements[k];
@@ -941,15 +992,14 @@ impl SourceShapes {
                 .collect();
             let shown = view(&wanted);
             let mut at = 0;
-            let mut out: SmallVec<[(usize, usize, Option<PartWeights>); 2]> = SmallVec::new();
+            let mut out: LeafViews = SmallVec::new();
             for (m, _, shaped, parts) in &drawn {
                 let shown = &shown[at..at + parts.len()];
                 at += parts.len();
                 out.push((n, *m, shaped.seen_weights(parts, shown)));
             }
             out
-        });
-        (ratios.into_iter().flatten().collect(), keys.len())
+        })
     }
 }
 
@@ -1473,14 +1523,20 @@ mod tests {
             scene: &scene,
             progress: &|_, _| {},
         };
-        let (weights, views) =
-            shapes.seen_weights(mesh, &sol.form_factors, &[shelf], &near, &views);
+        let mut weights = Vec::new();
+        let views = shapes.seen_weights(
+            mesh,
+            &sol.form_factors,
+            &[shelf],
+            &near,
+            &views,
+            |n, m, w| {
+                weights.push((n, m, w));
+            },
+        );
         assert_eq!(views, 1);
-        let by_view = weights[0]
-            .2
-            .as_ref()
-            .expect("the shelf sees part of the floor");
-        let by_view = shaped.ratio_from(by_view).unwrap();
+        assert_eq!(weights.len(), 1, "the shelf sees part of the floor");
+        let by_view = shaped.ratio_from(&weights[0].2).unwrap();
         let (all, in_sight, by_view) = (all[0], in_sight[0], by_view[0]);
         eprintln!("every part {all:.4}, in sight {in_sight:.4}, by the hemi-cube {by_view:.4}");
         assert!(
