@@ -364,6 +364,9 @@ impl Gathering {
             }
             corrections += 1;
             shapes.refresh(&ws.mesh, &ws.form_factors, &ws.radiosity, closed);
+            // The last factors go before the next are taken: held together
+            // they were the peak of a large scene's memory.
+            drop(std::mem::take(&mut factors));
             factors = shaped_factors(&ws.mesh, &ws.form_factors, &shapes, &options, &near);
             self.totals = gather_with(
                 &ws.mesh,

@@ -60,7 +60,7 @@ use rayon::prelude::*;
 use smallvec::SmallVec;
 
 /// The factors a shaped gather puts on patch radiosities.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub(crate) struct EntryFactors {
     /// Per leaf, the entries of its row to unevenly lit patches it is near,
     /// as (index in the row, factor), in row order.
