@@ -198,6 +198,14 @@ fn settings() -> Vec<(&'static str, Settings)> {
             },
         ),
         (
+            "part views, shadowed",
+            Settings {
+                part_views: true,
+                emitter_sampling: radiosity::formfactor::EmitterSampling::Shadowed,
+                ..with_patches(PATCH)
+            },
+        ),
+        (
             "depth 6",
             with_refine(RefineSettings {
                 max_depth: 6,
