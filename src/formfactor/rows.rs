@@ -2,14 +2,17 @@
 
 use super::contacts::Contacts;
 use super::contacts::Coverage;
+use super::hemicube::emitter_form_factors;
 use super::hemicube::{Cull, DeltaTable, Hemicube, HemicubeStats, PartSources, RowRequest};
 use super::scratch::map_items;
+use super::EmitterShift;
 use super::{
-    element_samples, eye_lift, unoccluded_row, ClosedObjects, EmitterSampling, EmitterVisibility,
-    Occluders, Row, Samples, Sources,
+    element_samples, eye_lift, point_to_polygon, unoccluded_row, ClosedObjects, EmitterSampling,
+    EmitterVisibility, FormFactors, Occluders, PixelHint, Row, Samples, Sources,
 };
 use crate::mesh::{Cell, ElementKey, Mesh};
 use glam::DVec3;
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -141,6 +144,28 @@ pub(crate) fn compute_rows_with(
         })
         .collect();
     (rows, stats)
+}
+
+/// For each (facet, its group lead) of `pairs`, whose lead's row
+/// `form_factors` holds, what the facet's own view of the emitters adds to
+/// that row (see [`FormFactors::emitter_shift`]). In parallel, in the order
+/// of `pairs`; the same at any thread count.
+pub(crate) fn emitter_shifts(
+    mesh: &Mesh,
+    sources: &Sources,
+    pairs: &[(ElementKey, ElementKey)],
+    form_factors: &FormFactors,
+    settings: &RowSettings,
+    skips: &RowSkips,
+) -> Vec<EmitterShift> {
+    if pairs.is_empty() || sources.emitters.is_empty() {
+        return vec![EmitterShift::none(); pairs.len()];
+    }
+    let scene = RowScene::new(mesh, sources, settings, skips);
+    pairs
+        .par_iter()
+        .map(|&(k, lead)| scene.emitter_shift(k, lead, form_factors.entries(lead)))
+        .collect()
 }
 
 /// What the rows of a mesh's leaves are drawn with, built once for many.
@@ -311,23 +336,7 @@ impl<'a> RowScene<'a> {
         // element's visible points are its mean in every mode.
         let centre_where_clear =
             view.coverage.is_none() && self.settings.emitter_sampling == EmitterSampling::Shadowed;
-        let samples = if self.emitters_exact {
-            match (self.settings.emitter_sampling, &view.coverage) {
-                (EmitterSampling::Rays | EmitterSampling::Pixels, _) => Samples::new(),
-                // A partly covered element's own visible points: the Gauss
-                // points would count the covered part twice, as its row is
-                // scaled by the visible share already.
-                (_, Some(c)) => c.samples.clone(),
-                (EmitterSampling::Element | EmitterSampling::Shadowed, None) => {
-                    element_samples(&lattice.polygon(&e.cell), view.lift)
-                }
-                (EmitterSampling::Centre, None) => {
-                    Samples::from_buf_and_len([(view.eye, 1.0); 4], 1)
-                }
-            }
-        } else {
-            Samples::new()
-        };
+        let samples = self.emitter_samples(key, &view);
         let mut request = self.request(key, &view, hidden);
         request.emitter_rays = self
             .occluders
@@ -344,6 +353,149 @@ impl<'a> RowScene<'a> {
             row = row.covered(c.visible);
         }
         (row, cube.stats - before)
+    }
+
+    /// The points of leaf `key` seen from `view` at which its emitters'
+    /// visible form factors are found, by the emitter sampling (none where
+    /// the pixels or rays decide).
+    fn emitter_samples(&self, key: ElementKey, view: &Viewpoint) -> Samples {
+        if !self.emitters_exact {
+            return Samples::new();
+        }
+        let e = &self.mesh.elements[key];
+        let lattice = &self.mesh.surfaces[e.surface as usize];
+        match (self.settings.emitter_sampling, &view.coverage) {
+            (EmitterSampling::Rays | EmitterSampling::Pixels, _) => Samples::new(),
+            // A partly covered element's own visible points: the Gauss
+            // points would count the covered part twice, as its row is
+            // scaled by the visible share already.
+            (_, Some(c)) => c.samples.clone(),
+            (EmitterSampling::Element | EmitterSampling::Shadowed, None) => {
+                element_samples(&lattice.polygon(&e.cell), view.lift)
+            }
+            (EmitterSampling::Centre, None) => Samples::from_buf_and_len([(view.eye, 1.0); 4], 1),
+        }
+    }
+
+    /// What leaf `key`'s own view of the emitters adds to `borrowed`, the
+    /// entries of its group lead's row that it holds (see
+    /// [`FormFactors::emitter_shift`]): per emitter patch, its own visible
+    /// form factor less the borrowed one. Empty where emitters are not
+    /// found exactly (the pixels decide: the borrowed pixels stand), where
+    /// other objects cover part of the leaf, or where it sees too many
+    /// emitter polygons to find them without pixels.
+    fn emitter_shift(
+        &self,
+        key: ElementKey,
+        lead: ElementKey,
+        borrowed: &[(u32, f32)],
+    ) -> EmitterShift {
+        let Some(occluders) = self.occluders.as_ref().filter(|_| self.emitters_exact) else {
+            return EmitterShift::none();
+        };
+        let view = self.viewpoint(key);
+        if view.coverage.is_some() {
+            return EmitterShift::none();
+        }
+        let e = &self.mesh.elements[key];
+        let normal = self.mesh.surfaces[e.surface as usize].normal;
+        let samples = self.emitter_samples(key, &view);
+        let visibility = EmitterVisibility {
+            occluders,
+            seed: view.seed,
+            samples: &samples,
+            centre_where_clear: self.settings.emitter_sampling == EmitterSampling::Shadowed,
+        };
+        // Where the rays must decide, they trust what the lead's pixels saw
+        // of each emitter (its row holds the visible form factor, to be
+        // compared with the unoccluded one at its eye), as its row's did.
+        let (lead_eye, lead_surface) = (self.viewpoint(lead).eye, self.mesh.elements[lead].surface);
+        let lead_normal = self.mesh.surfaces[lead_surface as usize].normal;
+        let hint = |j: u32| {
+            let unoccluded: f64 = self
+                .sources
+                .range(j)
+                .map(|q| &self.sources.polygons[q])
+                .filter(|poly| poly.surface != lead_surface)
+                .map(|poly| point_to_polygon(lead_eye, lead_normal, poly.corners()))
+                .sum();
+            let seen = borrowed
+                .binary_search_by_key(&j, |x| x.0)
+                .map_or(0.0, |i| f64::from(borrowed[i].1));
+            if unoccluded <= 0.0 {
+                PixelHint::Unseen
+            } else if seen >= unoccluded * (1.0 - 1e-3) {
+                PixelHint::Whole
+            } else if seen <= 0.0 {
+                PixelHint::Hidden
+            } else {
+                PixelHint::Partial
+            }
+        };
+        let Some(own) = emitter_form_factors(
+            self.sources,
+            view.eye,
+            normal,
+            e.surface,
+            &visibility,
+            &hint,
+        ) else {
+            return EmitterShift::none();
+        };
+        // The row's sum stays the lead's: what the facet sees more of the
+        // emitters it sees less of the rest.
+        let is_emitter = |j: &u32| self.sources.emitters.binary_search(j).is_ok();
+        let total: f64 = borrowed.iter().map(|&(_, f)| f64::from(f)).sum();
+        let lent: f64 = borrowed
+            .iter()
+            .filter(|(j, _)| is_emitter(j))
+            .map(|&(_, f)| f64::from(f))
+            .sum();
+        let mine: f64 = own.iter().map(|&(_, f)| f).sum();
+        let scale = if total - lent > 0.0 {
+            ((total - mine) / (total - lent)).max(0.0)
+        } else {
+            1.0
+        };
+        // Both lists are in patch order: walk them together.
+        let lent = borrowed.iter().filter(|(j, _)| is_emitter(j));
+        let mut shift = EmitterShift {
+            scale: scale as f32,
+            entries: smallvec::SmallVec::new(),
+        };
+        let scale = f64::from(shift.scale);
+        let (mut a, mut b) = (own.iter().peekable(), lent.peekable());
+        loop {
+            let (j, d) = match (a.peek(), b.peek()) {
+                (None, None) => break,
+                (Some(&&(j, f)), None) => {
+                    a.next();
+                    (j, f)
+                }
+                (None, Some(&&(j, g))) => {
+                    b.next();
+                    (j, -scale * f64::from(g))
+                }
+                (Some(&&(j, f)), Some(&&(k, g))) => {
+                    if j < k {
+                        a.next();
+                        (j, f)
+                    } else if k < j {
+                        b.next();
+                        (k, -scale * f64::from(g))
+                    } else {
+                        a.next();
+                        b.next();
+                        (j, f - scale * f64::from(g))
+                    }
+                }
+            };
+            let d = d as f32;
+            if d != 0.0 {
+                shift.entries.push((j, d));
+            }
+        }
+        shift
     }
 
     /// Per leaf of `keys` (the `n`th), `f(n, view)`, where `view` draws the

@@ -270,7 +270,9 @@ impl Sources {
     /// Lambert's unoccluded form factor from (`eye`, unit `normal`) to patch
     /// `p`, clipped to the horizon: its polygon's, or for a face cluster the
     /// sum over its polygons that face the eye (the others show their backs),
-    /// taken as a whole where the eye is far from it (see [`FarField`]).
+    /// taken as a whole where the eye is far from it (by its area, centroid
+    /// and second moment, to the order of its radius over the distance
+    /// squared).
     #[must_use]
     pub fn exact_form_factor(&self, p: u32, eye: DVec3, normal: DVec3) -> f64 {
         match self.patch(p) {

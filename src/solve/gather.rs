@@ -192,16 +192,29 @@ pub(crate) fn gather_with(
                     None => b,
                 }
             };
+            // A facet that borrows its group lead's row sees the emitters
+            // as it does itself (see `FormFactors::emitter_shift`).
+            let shift = form_factors.emitter_shift(k);
+            let (scale, added) =
+                shift.map_or((1.0, &[][..]), |s| (f64::from(s.scale), &s.entries[..]));
             let h = if options.grey {
                 let mut h = 0.0;
                 for (i, &(j, f)) in entries.iter().enumerate() {
                     h += source(i, j).0[0] * f64::from(f);
+                }
+                h *= scale;
+                for &(j, d) in added {
+                    h += b_seen[j as usize].0[0] * f64::from(d);
                 }
                 Rgb::splat(h * r)
             } else {
                 let mut h = Rgb::ZERO;
                 for (i, &(j, f)) in entries.iter().enumerate() {
                     h += source(i, j) * f64::from(f);
+                }
+                h *= scale;
+                for &(j, d) in added {
+                    h += b_seen[j as usize] * f64::from(d);
                 }
                 h * r
             };

@@ -187,15 +187,23 @@ impl PatchSystem {
             // source, its visible part stands for it (see `contacts.rs`).
             let visible = form_factors.view(k).map_or(1.0, |v| v.visible());
             let w = weight(mesh, form_factors, k, closed) / total / visible;
-            for &(j, f) in entries {
+            // What a facet that borrows its lead's row sees of the
+            // emitters itself (see `FormFactors::emitter_shift`).
+            let shift = form_factors.emitter_shift(k);
+            let (scale, added) =
+                shift.map_or((1.0, &[][..]), |s| (f64::from(s.scale), &s.entries[..]));
+            let scaled = entries.iter().map(|&(j, f)| (j, f64::from(f) * scale));
+            let added = added.iter().map(|&(j, d)| (j, f64::from(d)));
+            for (j, f) in scaled.chain(added) {
                 if dense[j as usize] == 0.0 {
                     touched.push(j);
                 }
-                dense[j as usize] +=
-                    w * f64::from(f) * self.balance.entry(i, p as usize, j as usize);
+                dense[j as usize] += w * f * self.balance.entry(i, p as usize, j as usize);
             }
         }
         touched.sort_unstable();
+        // A shift can bring a sum back to exactly 0 before it grows again.
+        touched.dedup();
         self.rows[p as usize] = touched
             .iter()
             .map(|&j| (j, std::mem::take(&mut dense[j as usize])))

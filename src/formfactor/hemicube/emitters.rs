@@ -165,3 +165,49 @@ fn solid_angle(sources: &Sources, q: u32, eye: DVec3) -> f64 {
     }
     polygon_area(poly.corners()) * poly.normal.dot(d).abs() / (r2 * r2.sqrt())
 }
+
+/// The visible form factor from `eye` (unit `normal`, on `own_surface`) to
+/// every emitter patch it sees, by patch, found as
+/// [`Hemicube::emitter_entries`] finds it but without an item buffer of its
+/// own: where clipping cannot decide, the rays trust what `hint` says of
+/// each patch (what another receiver's pixels saw of it). `None` when the
+/// receiver sees more than [`MANY_EMITTERS`] emitter polygons (such rows
+/// lean on their pixels).
+pub(crate) fn emitter_form_factors(
+    sources: &Sources,
+    eye: DVec3,
+    normal: DVec3,
+    own_surface: u32,
+    visibility: &EmitterVisibility<'_>,
+    hint: &dyn Fn(u32) -> PixelHint,
+) -> Option<Vec<(u32, f64)>> {
+    let mut seen = 0;
+    let mut out: Vec<(u32, f64)> = Vec::new();
+    for &j in &sources.emitters {
+        let mut f = 0.0;
+        for q in sources.range(j) {
+            let poly = &sources.polygons[q];
+            if poly.surface == own_surface {
+                continue;
+            }
+            let unoccluded = point_to_polygon(eye, normal, poly.corners());
+            if unoccluded <= 0.0 {
+                continue;
+            }
+            seen += 1;
+            if seen > MANY_EMITTERS {
+                return None;
+            }
+            let s = Seen {
+                patch: j,
+                polygon: q as u32,
+                unoccluded,
+            };
+            f += exact(sources, visibility, eye, normal, own_surface, s, hint(j));
+        }
+        if f > 0.0 {
+            out.push((j, f));
+        }
+    }
+    Some(out)
+}

@@ -25,6 +25,7 @@ mod table;
 
 pub(crate) use coverage::Coverage;
 pub(crate) use cull::Cull;
+pub(crate) use emitters::emitter_form_factors;
 pub(crate) use parts::PartSources;
 pub(crate) use row::RowRequest;
 pub use stats::HemicubeStats;
