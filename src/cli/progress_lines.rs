@@ -57,6 +57,8 @@ pub fn stage_name(stage: Stage) -> String {
     match stage {
         Stage::FormFactors { pass: 0 } => "form factors".to_string(),
         Stage::FormFactors { pass } => format!("refine {pass}: form factors"),
+        Stage::SharedRows { pass: 0 } => "shared rows: own direct light".to_string(),
+        Stage::SharedRows { pass } => format!("refine {pass}: shared rows: own direct light"),
         Stage::Solve => "solve".to_string(),
         Stage::PartViews => "shaped gather: part views".to_string(),
         Stage::Shoot { .. } => "shooting".to_string(),

@@ -149,7 +149,8 @@ pub(crate) fn compute_rows_with(
 /// For each (facet, its group lead) of `pairs`, whose lead's row
 /// `form_factors` holds, what the facet's own view of the emitters adds to
 /// that row (see [`FormFactors::emitter_shift`]). In parallel, in the order
-/// of `pairs`; the same at any thread count.
+/// of `pairs`; the same at any thread count. `progress` is called with the
+/// pairs done so far.
 pub(crate) fn emitter_shifts(
     mesh: &Mesh,
     sources: &Sources,
@@ -157,14 +158,24 @@ pub(crate) fn emitter_shifts(
     form_factors: &FormFactors,
     settings: &RowSettings,
     skips: &RowSkips,
+    progress: &(dyn Fn(usize) + Sync),
 ) -> Vec<EmitterShift> {
     if pairs.is_empty() || sources.emitters.is_empty() {
         return vec![EmitterShift::none(); pairs.len()];
     }
     let scene = RowScene::new(mesh, sources, settings, skips);
+    let done = AtomicUsize::new(0);
+    progress(0);
     pairs
         .par_iter()
-        .map(|&(k, lead)| scene.emitter_shift(k, lead, form_factors.entries(lead)))
+        .map(|&(k, lead)| {
+            let shift = scene.emitter_shift(k, lead, form_factors.entries(lead));
+            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+            if n.is_multiple_of(64) || n == pairs.len() {
+                progress(n);
+            }
+            shift
+        })
         .collect()
 }
 

@@ -8,6 +8,12 @@ pub enum Stage {
         /// Refinement pass.
         pass: usize,
     },
+    /// Facets that share their group lead's row find their own view of the
+    /// emitters (see `crate::formfactor::FormFactors::emitter_shift`).
+    SharedRows {
+        /// Refinement pass.
+        pass: usize,
+    },
     /// Coarse solve and gather.
     Solve,
     /// Hemi-cubes drawn again in a shaped gather, to see near patches part

@@ -199,6 +199,15 @@ impl<'a> Workspace<'a> {
         // of its lead's row: it changes with the facet's tilt and place far
         // more than what the rest of the view gathers (a tessellated head
         // under a lamp read 3% bright where its facets borrowed it).
+        let progress = self.progress;
+        let total = copies.len();
+        let report = |done| {
+            progress(Progress {
+                stage: Stage::SharedRows { pass },
+                done,
+                total,
+            });
+        };
         let shifts = emitter_shifts(
             &self.mesh,
             &self.sources,
@@ -206,6 +215,7 @@ impl<'a> Workspace<'a> {
             &self.form_factors,
             &self.plan.settings,
             &self.plan.skips,
+            &report,
         );
         for (&(k, _), shift) in copies.iter().zip(shifts) {
             self.form_factors.set_emitter_shift(k, shift);
