@@ -185,6 +185,8 @@ pub(crate) fn emitter_form_factors(
     let mut out: Vec<(u32, f64)> = Vec::new();
     for &j in &sources.emitters {
         let mut f = 0.0;
+        // Once per patch, and only for a patch the receiver sees.
+        let mut patch_hint = None;
         for q in sources.range(j) {
             let poly = &sources.polygons[q];
             if poly.surface == own_surface {
@@ -203,7 +205,8 @@ pub(crate) fn emitter_form_factors(
                 polygon: q as u32,
                 unoccluded,
             };
-            f += exact(sources, visibility, eye, normal, own_surface, s, hint(j));
+            let h = *patch_hint.get_or_insert_with(|| hint(j));
+            f += exact(sources, visibility, eye, normal, own_surface, s, h);
         }
         if f > 0.0 {
             out.push((j, f));
