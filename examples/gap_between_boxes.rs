@@ -191,16 +191,15 @@ fn settings() -> Vec<(&'static str, Settings)> {
             },
         ),
         (
-            "part views",
+            "no part views",
             Settings {
-                part_views: true,
+                part_views: Some(false),
                 ..with_patches(PATCH)
             },
         ),
         (
-            "part views, shadowed",
+            "shadowed",
             Settings {
-                part_views: true,
                 emitter_sampling: radiosity::formfactor::EmitterSampling::Shadowed,
                 ..with_patches(PATCH)
             },

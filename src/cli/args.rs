@@ -311,10 +311,16 @@ pub struct SolveSettingsArgs {
     pub shaped_gathers: Option<usize>,
     /// In shaped gathers, where something hides part of a near unevenly lit
     /// patch from an element, draw its hemi-cube again with the patch's
-    /// parts and weigh only the parts it sees (more accurate behind piers
-    /// and plinths; in a cluttered interior about 1.3x the time)
-    #[arg(long = "part-views")]
+    /// parts and weigh only the parts it sees (the default wherever shaped
+    /// gathers are made; given explicitly, a solve that makes none is
+    /// refused)
+    #[arg(long = "part-views", conflicts_with = "no_part_views")]
     pub part_views: bool,
+    /// Weigh the parts of a near patch by their unoccluded form factors
+    /// alone, without drawing part views (faster in a cluttered interior,
+    /// less accurate behind piers and plinths; for comparison)
+    #[arg(long = "no-part-views")]
+    pub no_part_views: bool,
     /// Render a row for every facet of a finely tessellated object, instead
     /// of one per group of neighbouring facets that face alike (groups that
     /// come out unevenly lit get rows per facet anyway); slower, for

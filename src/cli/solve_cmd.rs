@@ -123,7 +123,11 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
         },
         bounces: if a.direct_only { Some(1) } else { a.bounces },
         shaped_gathers: a.shaped_gathers,
-        part_views: a.part_views,
+        part_views: if a.no_part_views {
+            Some(false)
+        } else {
+            a.part_views.then_some(true)
+        },
         shared_rows: !a.per_facet_rows,
         level_of_detail: !a.no_level_of_detail,
         max_patches: a.max_patches.unwrap_or(usize::MAX),

@@ -274,7 +274,7 @@ impl Gathering {
             scene: &scene,
             progress: &report,
         };
-        let views = ws.settings.part_views.then_some(&views);
+        let views = ws.settings.uses_part_views().then_some(&views);
         let Some(near) = shaped_weights(&ws.mesh, &ws.form_factors, &shapes, views) else {
             // No patch is shaped (not reached: `shapes` is not empty).
             ws.stats.shaped_corrections.push(0);

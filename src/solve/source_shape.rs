@@ -1424,7 +1424,7 @@ mod tests {
         let solve = |part_views: bool| {
             let settings = Settings {
                 patch_size: Some(4.0),
-                part_views,
+                part_views: Some(part_views),
                 ..Settings::default()
             };
             crate::solve(&scene, &settings, &|_| {}).unwrap()

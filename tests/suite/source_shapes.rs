@@ -184,32 +184,46 @@ fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
 }
 
 #[test]
-fn part_views_without_a_shaped_gather_are_refused() {
+fn part_views_asked_for_without_a_shaped_gather_are_refused() {
     let with_gather = Settings {
-        part_views: true,
+        part_views: Some(true),
         ..Settings::default()
     };
     assert!(with_gather.validate().is_ok());
     for without in [
         Settings {
-            part_views: true,
+            part_views: Some(true),
             shaped_gathers: Some(0),
             ..Settings::default()
         },
         Settings {
-            part_views: true,
+            part_views: Some(true),
             solver_kind: radiosity::solve::SolverKind::Progressive,
             ..Settings::default()
         },
         Settings {
-            part_views: true,
+            part_views: Some(true),
             bounces: Some(2),
             ..Settings::default()
         },
     ] {
         let message = without.validate().unwrap_err().to_string();
         assert!(message.contains("part-views"), "{message}");
+        // Left to the default, they are simply not drawn where no shaped
+        // gather is made.
+        let default = Settings {
+            part_views: None,
+            ..without
+        };
+        assert!(default.validate().is_ok());
+        assert!(!default.uses_part_views());
     }
+    assert!(Settings::default().uses_part_views());
+    let off = Settings {
+        part_views: Some(false),
+        ..Settings::default()
+    };
+    assert!(off.validate().is_ok() && !off.uses_part_views());
 }
 
 /// A 6 m wall (one patch) with a pier against it, 0.7 m wide and 0.35 m
