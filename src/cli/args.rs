@@ -224,9 +224,9 @@ pub struct SolveSettingsArgs {
     /// a shadow edge across a large element can then take much of its
     /// light, or none); exact and averaged over points of each element
     /// where something hides part of a light from some of them, at the
-    /// centre where nothing does (shadowed: with --part-views, the most
-    /// accurate per-object means in cluttered scenes, for 1.1x to 1.5x the
-    /// time); or averaged over the points everywhere (element).
+    /// centre where nothing does (shadowed: with part views, the default,
+    /// the most accurate per-object means in cluttered scenes, for 1.1x to
+    /// 1.3x the time); or averaged over the points everywhere (element).
     #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "shadowed", "element"])]
     pub emitter_samples: String,
     /// Largest patch edge in metres [default: the scene's size / 10: its diagonal, less far outliers holding little area].
