@@ -220,14 +220,14 @@ pub struct SolveSettingsArgs {
     /// Hemi-cube resolution: pixels across the top face (even).
     #[arg(long = "hemicube-res", default_value_t = 64)]
     pub hemicube_res: usize,
-    /// Visibility of light sources: exact at each element's centre (centre;
-    /// a shadow edge across a large element can then take much of its
-    /// light, or none); exact and averaged over points of each element
-    /// where something hides part of a light from some of them, at the
-    /// centre where nothing does (shadowed: with part views, the default,
-    /// the most accurate per-object means in cluttered scenes, for 1.1x to
-    /// 1.3x the time); or averaged over the points everywhere (element).
-    #[arg(long = "emitter-samples", default_value = "centre", value_parser = ["centre", "shadowed", "element"])]
+    /// Visibility of light sources: exact and averaged over points of each
+    /// element where a few occluders hide part of a light from some of
+    /// them, at the centre where nothing does or many small ones do
+    /// (shadowed, the default); exact at each element's centre (centre:
+    /// about 0.93x the time, but a shadow edge across a large element can
+    /// then take much of its light, or none); or averaged over the points
+    /// everywhere (element).
+    #[arg(long = "emitter-samples", default_value = "shadowed", value_parser = ["shadowed", "centre", "element"])]
     pub emitter_samples: String,
     /// Largest patch edge in metres [default: the scene's size / 10: its diagonal, less far outliers holding little area].
     #[arg(long = "patch-size")]

@@ -33,4 +33,4 @@ pub use sources::{SourcePolygon, Sources};
 pub(crate) use split_rows::{update_rows_for_splits, SplitPatch};
 pub use store::{EmitterShift, FormFactors, RowState, RowView};
 pub(crate) use unoccluded::{is_convex_enclosure, unoccluded_row};
-pub(crate) use visibility::{EmitterVisibility, Occluders, PixelHint};
+pub(crate) use visibility::{EmitterVisibility, Occluders, PixelHint, PointsMean};

@@ -65,10 +65,50 @@ pub(crate) struct EmitterVisibility<'a> {
     /// empty, emitter visibility is ray cast at the centre instead of clipped
     /// exactly at the points.
     pub samples: &'a [(DVec3, f64)],
-    /// Where nothing in any point's shaft hides part of an emitter, take the
-    /// form factor at the element's centre instead of the points' mean (see
-    /// [`super::EmitterSampling::Shadowed`]).
+    /// Shadowed sampling (see [`super::EmitterSampling::Shadowed`]): the
+    /// points' means only in rows where something hides part of an emitter
+    /// from some point, and few surfaces do; the centre's values elsewhere.
     pub centre_where_clear: bool,
+}
+
+/// Past this many surfaces casting a shadow on the first point of a
+/// receiving element, [`Occluders::mean_visible_form_factor`] asked to keep
+/// to few casters (shadowed sampling) stops and leaves the light to the
+/// element's centre (see [`PointsMean::Crowded`]). Each point clips every
+/// shadow of its own, so a shaft crowded by a tessellated mesh's facets costs
+/// four times the centre's clipping for an edge no sharper than the facets'
+/// staircase; the sharp edges that a centre misses (a box's side across a
+/// dim element) come from a few large planar surfaces, however many patches
+/// they are split into.
+pub(crate) const FEW_CASTERS: usize = 4;
+
+/// What [`Occluders::mean_visible_form_factor`] found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum PointsMean {
+    /// The points' mean visible form factor, and whether anything hides
+    /// part of the light from any point (or a point sees none of its front).
+    Visible {
+        /// The mean.
+        mean: f64,
+        /// Whether the light's visibility changes across the points.
+        shadowed: bool,
+    },
+    /// Asked to keep to few casters, more than [`FEW_CASTERS`] surfaces
+    /// shadow the first point: the centre must decide.
+    Crowded,
+    /// Clipping cannot decide (too many shadows or pieces, or geometry too
+    /// thin to project): the rays must.
+    Undecided,
+}
+
+impl PointsMean {
+    /// The mean found, if one was.
+    pub(crate) fn found(self) -> Option<f64> {
+        match self {
+            PointsMean::Visible { mean, .. } => Some(mean),
+            PointsMean::Crowded | PointsMean::Undecided => None,
+        }
+    }
 }
 
 /// Every patch polygon as an occluder, for shadow rays.
@@ -373,7 +413,8 @@ impl Occluders {
 
     /// The mean over `samples` (points of the receiving element, with weights
     /// summing to 1) of the visible form factor to patch `target`, each computed
-    /// exactly by clipping; `None` if any point needs the rays instead.
+    /// exactly by clipping; [`PointsMean::Undecided`] if any point needs the
+    /// rays instead.
     ///
     /// The BVH is walked once for all the points: a node is entered when any
     /// point's shaft may hold something in it; the first point clips what
@@ -383,8 +424,8 @@ impl Occluders {
     /// node its shaft misses clips to nothing), so the result is the same as
     /// point by point, for one walk instead of one per point.
     ///
-    /// `clear`, when given, is returned instead where every point sees the
-    /// front of the whole light and nothing in its shaft hides any of it.
+    /// With `few_casters`, more than [`FEW_CASTERS`] surfaces shadowing
+    /// the first point end the walk with [`PointsMean::Crowded`].
     #[must_use]
     pub(crate) fn mean_visible_form_factor(
         &self,
@@ -393,8 +434,8 @@ impl Occluders {
         normal: DVec3,
         own_surface: u32,
         target: u32,
-        clear: Option<f64>,
-    ) -> Option<f64> {
+        few_casters: bool,
+    ) -> PointsMean {
         let poly = &sources.polygons[target as usize];
         let light = &poly.vertices[..poly.count as usize];
         let mut points: SmallVec<[PointShaft<'_>; 4]> = SmallVec::new();
@@ -404,15 +445,27 @@ impl Occluders {
             if full <= 0.0 || poly.normal.dot(eye - light[0]) <= 0.0 {
                 continue;
             }
+            let Some(shaft) = Shaft::new(eye, normal, light, poly.normal) else {
+                return PointsMean::Undecided;
+            };
             points.push(PointShaft {
                 weight,
                 full,
-                shaft: Shaft::new(eye, normal, light, poly.normal)?,
+                shaft,
             });
         }
         if points.is_empty() {
-            return Some(0.0);
+            // The centre may see the light's front; no point does.
+            return PointsMean::Visible {
+                mean: 0.0,
+                shadowed: true,
+            };
         }
+        // Shadowed sampling counts the surfaces casting the first point's
+        // shadows: a box face split into patches casts one straight edge.
+        let crowd_limit = few_casters.then_some(FEW_CASTERS);
+        let mut casters: SmallVec<[u32; 8]> = SmallVec::new();
+        let mut crowded = false;
         // A point that does not see the light's front at all is as good as
         // a shadow: the light's visibility changes across the element.
         let mut shadowed = points.len() < samples.len();
@@ -444,6 +497,15 @@ impl Occluders {
                             overflow = true;
                             return false;
                         }
+                        if let Some(limit) = crowd_limit {
+                            if !casters.contains(&p.surface) {
+                                casters.push(p.surface);
+                                if casters.len() > limit {
+                                    crowded = true;
+                                    return false;
+                                }
+                            }
+                        }
                     }
                 }
                 if others.iter().any(|s| !s.shaft.misses(p.centre, p.radius)) {
@@ -452,20 +514,26 @@ impl Occluders {
                 true
             },
         );
+        if crowded {
+            return PointsMean::Crowded;
+        }
         if overflow {
-            return None;
+            return PointsMean::Undecided;
         }
-        let mut sum =
-            first.weight * first.visible_past(&first_shadows, light, normal, poly.normal)?;
-        shadowed |= !first_shadows.is_empty();
-        for point in others {
-            let shadows = point.shadows(sources, &held)?;
-            sum += point.weight * point.visible_past(&shadows, light, normal, poly.normal)?;
-            shadowed |= !shadows.is_empty();
-        }
-        match clear {
-            Some(clear) if !shadowed => Some(clear),
-            _ => Some(sum),
+        let sum = (|| {
+            let mut sum =
+                first.weight * first.visible_past(&first_shadows, light, normal, poly.normal)?;
+            shadowed |= !first_shadows.is_empty();
+            for point in others {
+                let shadows = point.shadows(sources, &held)?;
+                sum += point.weight * point.visible_past(&shadows, light, normal, poly.normal)?;
+                shadowed |= !shadows.is_empty();
+            }
+            Some(sum)
+        })();
+        match sum {
+            None => PointsMean::Undecided,
+            Some(mean) => PointsMean::Visible { mean, shadowed },
         }
     }
 
@@ -644,14 +712,20 @@ mod tests {
         SourcePolygon::new(&corners, normal, surface)
     }
 
+    /// A floor (surface 0, polygon 0) under a light facing down at z = 2
+    /// (surface 1, polygon 1).
+    fn floor_and_light() -> Vec<SourcePolygon> {
+        vec![
+            square(DVec3::ZERO, 4.0, DVec3::Z, 0),
+            square(DVec3::new(0.0, 0.0, 2.0), 0.5, DVec3::NEG_Z, 1),
+        ]
+    }
+
     /// A floor (surface 0) under a light facing down at z = 2 (surface 1,
     /// polygon 1), with small screens scattered at z = 1 (facing either
     /// way) that hide parts of the light from parts of the floor.
     fn lit_floor() -> Sources {
-        let mut polygons = vec![
-            square(DVec3::ZERO, 4.0, DVec3::Z, 0),
-            square(DVec3::new(0.0, 0.0, 2.0), 0.5, DVec3::NEG_Z, 1),
-        ];
+        let mut polygons = floor_and_light();
         for i in 0..12u32 {
             let a = f64::from(i) * 0.9;
             let centre = DVec3::new(0.6 * a.cos(), 0.6 * a.sin(), 1.0 + 0.02 * f64::from(i));
@@ -678,12 +752,14 @@ mod tests {
         for i in 0..40 {
             let (x, y) = (-1.5 + 0.075 * f64::from(i), 0.4 - 0.02 * f64::from(i));
             let points = element(x, y, 0.1);
-            let together =
-                occluders.mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, None);
+            let together = occluders
+                .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, false)
+                .found();
             let mut alone = Some(0.0);
             for &(p, w) in &points {
-                let one =
-                    occluders.mean_visible_form_factor(&sources, &[(p, 1.0)], DVec3::Z, 0, 1, None);
+                let one = occluders
+                    .mean_visible_form_factor(&sources, &[(p, 1.0)], DVec3::Z, 0, 1, false)
+                    .found();
                 alone = alone.zip(one).map(|(sum, f)| sum + w * f);
             }
             assert_eq!(
@@ -704,32 +780,102 @@ mod tests {
     }
 
     #[test]
-    fn the_centre_stands_for_an_element_only_where_nothing_hides_the_light() {
+    fn an_element_is_shadowed_exactly_where_something_hides_the_light() {
         let sources = lit_floor();
         let occluders = Occluders::new(&sources);
-        let centre = 0.123;
         let (mut shadowed, mut clear_ones) = (0, 0);
         for i in 0..40 {
             let (x, y) = (-1.5 + 0.075 * f64::from(i), 0.4 - 0.02 * f64::from(i));
             let points = element(x, y, 0.1);
+            let unoccluded: f64 = points
+                .iter()
+                .map(|&(p, w)| w * point_to_polygon(p, DVec3::Z, sources.polygons[1].corners()))
+                .sum();
+            // Few screens lie in any one shaft here (the crowded case is
+            // the next test's): with or without the limit, the same.
+            let found = occluders.mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, true);
+            assert_eq!(
+                found,
+                occluders.mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, false)
+            );
+            let PointsMean::Visible {
+                mean,
+                shadowed: hidden,
+            } = found
+            else {
+                panic!("{found:?} at ({x}, {y})");
+            };
+            if hidden {
+                assert!(mean < unoccluded * (1.0 - 1e-12), "shadowed at ({x}, {y})");
+                shadowed += 1;
+            } else {
+                assert_eq!(mean.to_bits(), unoccluded.to_bits(), "clear at ({x}, {y})");
+                clear_ones += 1;
+            }
+        }
+        assert!(shadowed > 0 && clear_ones > 0, "{shadowed} {clear_ones}");
+    }
+
+    /// The floor and light of [`lit_floor`] with `n` small screens just
+    /// under the middle of the light, each on its own surface: every floor
+    /// point near the middle sees all of them against the light.
+    fn chips(n: u32) -> Sources {
+        let mut polygons = floor_and_light();
+        for i in 0..n {
+            let a = f64::from(i) * std::f64::consts::TAU / f64::from(n);
+            let centre = DVec3::new(0.1 * a.cos(), 0.1 * a.sin(), 1.8 + 0.01 * f64::from(i));
+            polygons.push(square(centre, 0.02, DVec3::NEG_Z, 2 + i));
+        }
+        Sources::one_per_patch(polygons)
+    }
+
+    #[test]
+    fn more_than_a_few_casters_leave_the_element_to_its_centre() {
+        for n in [FEW_CASTERS as u32, FEW_CASTERS as u32 + 1] {
+            let sources = chips(n);
+            let occluders = Occluders::new(&sources);
+            let points = element(0.05, -0.02, 0.1);
             let mean = occluders
-                .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, None)
-                .unwrap();
-            let clear = occluders
-                .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, Some(centre))
+                .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, false)
+                .found()
                 .unwrap();
             let unoccluded: f64 = points
                 .iter()
                 .map(|&(p, w)| w * point_to_polygon(p, DVec3::Z, sources.polygons[1].corners()))
                 .sum();
-            if (mean - unoccluded).abs() > 1e-12 * unoccluded {
-                assert_eq!(clear.to_bits(), mean.to_bits(), "shadowed at ({x}, {y})");
-                shadowed += 1;
+            assert!(mean < unoccluded * (1.0 - 1e-3), "{n}: {mean} {unoccluded}");
+            let few = occluders.mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, true);
+            if n as usize > FEW_CASTERS {
+                assert_eq!(few, PointsMean::Crowded, "{n} chips");
             } else {
-                assert_eq!(clear, centre, "clear at ({x}, {y})");
-                clear_ones += 1;
+                let shadowed = true;
+                assert_eq!(few, PointsMean::Visible { mean, shadowed }, "{n} chips");
             }
         }
-        assert!(shadowed > 0 && clear_ones > 0, "{shadowed} {clear_ones}");
+    }
+
+    #[test]
+    fn one_surface_in_many_polygons_is_one_caster() {
+        // A screen cut into a 3 x 3 grid of polygons on one surface.
+        let mut polygons = floor_and_light();
+        for i in 0..3 {
+            for j in 0..3 {
+                let centre =
+                    DVec3::new(0.04 * f64::from(i) - 0.04, 0.04 * f64::from(j) - 0.04, 1.8);
+                polygons.push(square(centre, 0.02, DVec3::NEG_Z, 2));
+            }
+        }
+        let sources = Sources::one_per_patch(polygons);
+        let occluders = Occluders::new(&sources);
+        let points = element(0.05, -0.02, 0.1);
+        let mean = occluders
+            .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, false)
+            .found()
+            .unwrap();
+        let shadowed = true;
+        assert_eq!(
+            occluders.mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, true),
+            PointsMean::Visible { mean, shadowed }
+        );
     }
 }

@@ -84,11 +84,29 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 /// whole depth of the floor and beyond.
 fn scene(screen: bool) -> Scene {
     let mut b = SceneBuilder::new("emitter sampling");
+    let black = floor_and_lamp(&mut b);
+    if screen {
+        b.object("screen");
+        b.quad(
+            black,
+            v(-1.0, SCREEN_HEIGHT, -1.0),
+            v(-1.0, SCREEN_HEIGHT, 2.0),
+            v(SCREEN_EDGE, SCREEN_HEIGHT, 2.0),
+            v(SCREEN_EDGE, SCREEN_HEIGHT, -1.0),
+        )
+        .unwrap();
+    }
+    b.build().unwrap()
+}
+
+/// Adds the unit floor and the lamp over it to `b`; returns a black
+/// material for what hides the lamp.
+fn floor_and_lamp(b: &mut SceneBuilder) -> u32 {
     let floor = b
         .material("floor", Rgb::splat(FLOOR_REFLECTANCE), Rgb::ZERO)
         .unwrap();
     let lamp = b.material("lamp", Rgb::ZERO, Rgb::splat(1.0)).unwrap();
-    let black = b.material("screen", Rgb::ZERO, Rgb::ZERO).unwrap();
+    let black = b.material("black", Rgb::ZERO, Rgb::ZERO).unwrap();
     b.object("floor");
     b.quad(
         floor,
@@ -108,18 +126,7 @@ fn scene(screen: bool) -> Scene {
         v(lo, LAMP_HEIGHT, hi),
     )
     .unwrap();
-    if screen {
-        b.object("screen");
-        b.quad(
-            black,
-            v(-1.0, SCREEN_HEIGHT, -1.0),
-            v(-1.0, SCREEN_HEIGHT, 2.0),
-            v(SCREEN_EDGE, SCREEN_HEIGHT, 2.0),
-            v(SCREEN_EDGE, SCREEN_HEIGHT, -1.0),
-        )
-        .unwrap();
-    }
-    b.build().unwrap()
+    black
 }
 
 /// The floor's direct light over the lamp's radiosity, over the floor's
@@ -195,5 +202,64 @@ fn a_shadow_edge_the_centre_misses_is_found_by_the_points() {
         shadowed.to_bits(),
         floor_factor(&scene, EmitterSampling::Element).to_bits(),
         "where something hides part of the lamp, the points' mean is taken"
+    );
+}
+
+/// The floor and lamp of [`scene`] with `n` small black squares just under
+/// the lamp, each at its own height (so each is its own surface), all within
+/// the part of the lamp every floor point sees: each hides a little of the
+/// lamp from every point of the floor, a little differently from each.
+fn scene_with_chips(n: usize) -> Scene {
+    let mut b = SceneBuilder::new("chips under a lamp");
+    let black = floor_and_lamp(&mut b);
+    let half = 0.015;
+    for i in 0..n {
+        let a = i as f64 * std::f64::consts::TAU / n as f64;
+        let (x, z) = (0.5 + 0.06 * a.cos(), 0.5 + 0.06 * a.sin());
+        let y = 0.9 + 0.01 * i as f64;
+        b.object(&format!("chip_{i}"));
+        b.quad(
+            black,
+            v(x - half, y, z - half),
+            v(x - half, y, z + half),
+            v(x + half, y, z + half),
+            v(x + half, y, z - half),
+        )
+        .unwrap();
+    }
+    b.build().unwrap()
+}
+
+#[test]
+fn a_shaft_crowded_by_many_surfaces_takes_the_centre_and_a_few_take_the_points() {
+    // Shadowed sampling clips at the element's points while at most four
+    // surfaces shadow the first of them, and takes the centre's exact value
+    // past that (the limit is the library's `FEW_CASTERS`).
+    let few = scene_with_chips(3);
+    let unoccluded = visible(0.5, 0.5, false);
+    let (few_centre, few_shadowed) = (
+        floor_factor(&few, EmitterSampling::Centre),
+        floor_factor(&few, EmitterSampling::Shadowed),
+    );
+    assert_eq!(
+        few_shadowed.to_bits(),
+        floor_factor(&few, EmitterSampling::Element).to_bits(),
+        "three chips: the points' mean"
+    );
+    assert_ne!(few_shadowed.to_bits(), few_centre.to_bits());
+    let many = scene_with_chips(7);
+    let many_centre = floor_factor(&many, EmitterSampling::Centre);
+    assert!(
+        many_centre < few_centre && few_centre < unoccluded * (1.0 - 1e-3),
+        "the chips hide some of the lamp: {many_centre} {few_centre} {unoccluded}"
+    );
+    assert_eq!(
+        floor_factor(&many, EmitterSampling::Shadowed).to_bits(),
+        many_centre.to_bits(),
+        "seven chips: the centre's value"
+    );
+    assert_ne!(
+        floor_factor(&many, EmitterSampling::Element).to_bits(),
+        many_centre.to_bits()
     );
 }

@@ -8,6 +8,7 @@
 use super::contacts::face;
 use super::source_shapes::{error, reference_means};
 use glam::DVec3;
+use radiosity::formfactor::EmitterSampling;
 use radiosity::math::Rgb;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder};
@@ -91,6 +92,10 @@ fn bench_scene() -> Scene {
 }
 
 fn solve(scene: &Scene, facing_split: bool) -> Solution {
+    solve_with(scene, facing_split, EmitterSampling::Centre)
+}
+
+fn solve_with(scene: &Scene, facing_split: bool, emitter_sampling: EmitterSampling) -> Solution {
     let settings = Settings {
         // The floor and the wall are one patch each.
         patch_size: Some(4.0),
@@ -98,6 +103,7 @@ fn solve(scene: &Scene, facing_split: bool) -> Solution {
             facing_split,
             ..RefineSettings::default()
         },
+        emitter_sampling,
         ..Settings::default()
     };
     radiosity::solve(scene, &settings, &|_| {}).unwrap()
@@ -107,6 +113,8 @@ fn solve(scene: &Scene, facing_split: bool) -> Solution {
 fn a_seat_gathers_the_floor_in_its_own_shadow_once_facing_leaves_split() {
     let scene = bench_scene();
     let reference = reference_means(&scene, 200_000, 11);
+    // Centre sampling, with which the seat's neighbours came out far off
+    // before facing splits; the default's case is the next test's.
     let plain = solve(&scene, false);
     let split = solve(&scene, true);
     let facing = |s: &Solution| s.stats().passes.iter().map(|p| p.facing).sum::<usize>();
@@ -133,6 +141,29 @@ fn a_seat_gathers_the_floor_in_its_own_shadow_once_facing_leaves_split() {
     ] {
         let (before, after) = errors(object);
         assert!(before > 0.05, "{object}: {before}");
+        assert!(after < most * before, "{object}: {before} -> {after}");
+    }
+}
+
+#[test]
+fn facing_splits_still_help_under_the_default_sampling() {
+    // Shadowed sampling already takes the seat's shadow edges at the
+    // elements' points and leaves less for facing splits to find. Measured
+    // (largest band error, without -> with): underside 0.148 -> 0.004, back
+    // 0.041 -> 0.001, wall 0.018 -> 0.001; against centre sampling's 0.214,
+    // 0.185 and 0.074 without.
+    let scene = bench_scene();
+    let reference = reference_means(&scene, 200_000, 11);
+    let sampling = EmitterSampling::default();
+    let plain = solve_with(&scene, false, sampling);
+    let split = solve_with(&scene, true, sampling);
+    for (object, most) in [("underside", 0.2), ("back", 0.2), ("wall", 0.3)] {
+        let (before, after) = (
+            error(&scene, &plain, &reference, object),
+            error(&scene, &split, &reference, object),
+        );
+        eprintln!("{object}: {before:.4} -> {after:.4}");
+        assert!(before > 0.01, "{object}: {before}");
         assert!(after < most * before, "{object}: {before} -> {after}");
     }
 }
