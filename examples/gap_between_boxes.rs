@@ -198,9 +198,9 @@ fn settings() -> Vec<(&'static str, Settings)> {
             },
         ),
         (
-            "shadowed",
+            "centre",
             Settings {
-                emitter_sampling: radiosity::formfactor::EmitterSampling::Shadowed,
+                emitter_sampling: radiosity::formfactor::EmitterSampling::Centre,
                 ..with_patches(PATCH)
             },
         ),

@@ -829,16 +829,24 @@ mod tests {
         Sources::one_per_patch(polygons)
     }
 
+    /// The occluders of `sources`, the points of an element near the
+    /// middle of the floor and their mean visible form factor to the light,
+    /// with no limit on the casters.
+    fn beside_the_middle(sources: &Sources) -> (Occluders, [(DVec3, f64); 4], f64) {
+        let occluders = Occluders::new(sources);
+        let points = element(0.05, -0.02, 0.1);
+        let mean = occluders
+            .mean_visible_form_factor(sources, &points, DVec3::Z, 0, 1, false)
+            .found()
+            .unwrap();
+        (occluders, points, mean)
+    }
+
     #[test]
     fn more_than_a_few_casters_leave_the_element_to_its_centre() {
         for n in [FEW_CASTERS as u32, FEW_CASTERS as u32 + 1] {
             let sources = chips(n);
-            let occluders = Occluders::new(&sources);
-            let points = element(0.05, -0.02, 0.1);
-            let mean = occluders
-                .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, false)
-                .found()
-                .unwrap();
+            let (occluders, points, mean) = beside_the_middle(&sources);
             let unoccluded: f64 = points
                 .iter()
                 .map(|&(p, w)| w * point_to_polygon(p, DVec3::Z, sources.polygons[1].corners()))
@@ -866,12 +874,7 @@ mod tests {
             }
         }
         let sources = Sources::one_per_patch(polygons);
-        let occluders = Occluders::new(&sources);
-        let points = element(0.05, -0.02, 0.1);
-        let mean = occluders
-            .mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, false)
-            .found()
-            .unwrap();
+        let (occluders, points, mean) = beside_the_middle(&sources);
         let shadowed = true;
         assert_eq!(
             occluders.mean_visible_form_factor(&sources, &points, DVec3::Z, 0, 1, true),

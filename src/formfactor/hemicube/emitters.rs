@@ -73,6 +73,13 @@ impl Hemicube {
         let many = seen.len() > MANY_EMITTERS;
         // The solid angle of the pixel at the top face's centre, the largest.
         let pixel = (2.0 / self.table.n as f64).powi(2);
+        let receiver = Receiver {
+            sources,
+            visibility,
+            eye,
+            normal,
+            own_surface,
+        };
         let mut looks: Vec<(Seen, PixelHint, Look)> = Vec::with_capacity(seen.len());
         let mut hint = (u32::MAX, PixelHint::Unseen);
         for &s in &seen {
@@ -86,11 +93,11 @@ impl Hemicube {
                 Look::OneRay(if open { s.unoccluded } else { 0.0 })
             } else {
                 self.stats.emitters_exact += 1;
-                first_look(sources, visibility, eye, normal, own_surface, s, hint.1)
+                receiver.first_look(s, hint.1)
             };
             looks.push((s, hint.1, look));
         }
-        let found = settle_row(&mut looks, sources, visibility, eye, normal, own_surface);
+        let found = receiver.settle_row(&mut looks);
         for (j, f) in found {
             match entries.binary_search_by_key(&j, |e| e.0) {
                 Ok(k) => entries[k] = (j, f, false),
@@ -134,42 +141,224 @@ enum Look {
     Crowded,
 }
 
-/// The first look at the seen polygon `s`: clipped at the element's sample
-/// points where they can be, else by rays at the centre.
-fn first_look(
-    sources: &Sources,
-    visibility: &EmitterVisibility<'_>,
+/// A receiving element as its emitter entries see it: its centre `eye`,
+/// unit `normal` and surface, and how its lights' visibility is found.
+#[derive(Clone, Copy)]
+struct Receiver<'a> {
+    sources: &'a Sources,
+    visibility: &'a EmitterVisibility<'a>,
     eye: DVec3,
     normal: DVec3,
     own_surface: u32,
-    s: Seen,
-    hint: PixelHint,
-) -> Look {
-    let EmitterVisibility {
-        occluders,
-        seed,
-        samples,
-        centre_where_clear,
-    } = *visibility;
-    let rays = || {
-        s.unoccluded
-            * occluders.visible_fraction(sources, eye, normal, own_surface, s.polygon, seed, hint)
-    };
-    if samples.is_empty() {
-        return Look::Centre(rays());
+}
+
+impl Receiver<'_> {
+    /// The first look at the seen polygon `s`: clipped at the element's sample
+    /// points where they can be, else by rays at the centre.
+    fn first_look(&self, s: Seen, hint: PixelHint) -> Look {
+        let Receiver {
+            sources,
+            visibility,
+            eye,
+            normal,
+            own_surface,
+        } = *self;
+        let EmitterVisibility {
+            occluders,
+            seed,
+            samples,
+            centre_where_clear,
+        } = *visibility;
+        let rays = || {
+            s.unoccluded
+                * occluders.visible_fraction(
+                    sources,
+                    eye,
+                    normal,
+                    own_surface,
+                    s.polygon,
+                    seed,
+                    hint,
+                )
+        };
+        if samples.is_empty() {
+            return Look::Centre(rays());
+        }
+        let few_casters = centre_where_clear;
+        match occluders.mean_visible_form_factor(
+            sources,
+            samples,
+            normal,
+            own_surface,
+            s.polygon,
+            few_casters,
+        ) {
+            PointsMean::Visible { mean, shadowed } => Look::Points { mean, shadowed },
+            PointsMean::Crowded => Look::Crowded,
+            PointsMean::Undecided => Look::Centre(rays()),
+        }
     }
-    let few_casters = centre_where_clear;
-    match occluders.mean_visible_form_factor(
-        sources,
-        samples,
-        normal,
-        own_surface,
-        s.polygon,
-        few_casters,
-    ) {
-        PointsMean::Visible { mean, shadowed } => Look::Points { mean, shadowed },
-        PointsMean::Crowded => Look::Crowded,
-        PointsMean::Undecided => Look::Centre(rays()),
+
+    /// Adds to `looks` (sorted by patch, then polygon) the emitter polygons
+    /// that some of the element's points see but its centre does not (a floor
+    /// element reaching under a floating box, whose side's plane passes between
+    /// its points), with the points' mean, and keeps them sorted by patch. A row
+    /// taken at the points must hold them: without them its emitters add up to
+    /// less than the points see (in a furnace, 0.4% of an element's light).
+    fn looks_past_the_centre(&self, looks: &mut Vec<(Seen, PixelHint, Look)>) {
+        let Receiver {
+            sources,
+            visibility,
+            eye: _,
+            normal,
+            own_surface,
+        } = *self;
+        let samples = visibility.samples;
+        let before = looks.len();
+        for &j in &sources.emitters {
+            for q in sources.range(j) {
+                let poly = &sources.polygons[q];
+                if poly.surface == own_surface
+                    || looks[..before]
+                        .binary_search_by_key(&(j, q as u32), |l| (l.0.patch, l.0.polygon))
+                        .is_ok()
+                {
+                    continue;
+                }
+                let seen_by_a_point = samples.iter().any(|&(p, _)| {
+                    poly.normal.dot(p - poly.centre) > 0.0
+                        && point_to_polygon(p, normal, poly.corners()) > 0.0
+                });
+                if !seen_by_a_point {
+                    continue;
+                }
+                let found = visibility.occluders.mean_visible_form_factor(
+                    sources,
+                    samples,
+                    normal,
+                    own_surface,
+                    q as u32,
+                    false,
+                );
+                // Where clipping cannot decide, the polygon is left out, as the
+                // centre leaves it.
+                if let Some(mean) = found.found() {
+                    let s = Seen {
+                        patch: j,
+                        polygon: q as u32,
+                        unoccluded: 0.0,
+                    };
+                    let look = Look::Points {
+                        mean,
+                        shadowed: true,
+                    };
+                    looks.push((s, PixelHint::Unseen, look));
+                }
+            }
+        }
+        if looks.len() > before {
+            looks.sort_by_key(|l| (l.0.patch, l.0.polygon));
+        }
+    }
+
+    /// The visible form factor of the seen polygon `s` from what `look` found:
+    /// the points' mean where the sampling takes the points (with shadowed
+    /// sampling, where something hides part of it from some point); else the
+    /// centre's, its unoccluded form factor where nothing hid any of it from any
+    /// point, clipped (or by rays) at the centre where too many surfaces did.
+    fn settle(&self, look: Look, at_points: bool, s: Seen, hint: PixelHint) -> f64 {
+        let Receiver {
+            sources,
+            visibility,
+            eye,
+            normal,
+            own_surface,
+        } = *self;
+        let occluders = visibility.occluders;
+        let at_centre = || {
+            occluders
+                .mean_visible_form_factor(
+                    sources,
+                    &[(eye, 1.0)],
+                    normal,
+                    own_surface,
+                    s.polygon,
+                    false,
+                )
+                .found()
+                .unwrap_or_else(|| {
+                    let fraction = occluders.visible_fraction(
+                        sources,
+                        eye,
+                        normal,
+                        own_surface,
+                        s.polygon,
+                        visibility.seed,
+                        hint,
+                    );
+                    s.unoccluded * fraction
+                })
+        };
+        // The centre's visible share of the polygon carried over to the points'
+        // mean unoccluded form factor: what the points see of it, as far as
+        // its visibility is known at the centre alone.
+        let at_the_points = |f: f64| {
+            if f <= 0.0 {
+                return 0.0;
+            }
+            let poly = &sources.polygons[s.polygon as usize];
+            let unoccluded: f64 = visibility
+                .samples
+                .iter()
+                .filter(|&&(p, _)| poly.normal.dot(p - poly.centre) > 0.0)
+                .map(|&(p, w)| w * point_to_polygon(p, normal, poly.corners()))
+                .sum();
+            unoccluded * (f / s.unoccluded).min(1.0)
+        };
+        match look {
+            Look::Points { mean, .. } if at_points || !visibility.centre_where_clear => mean,
+            Look::Points {
+                shadowed: false, ..
+            } => s.unoccluded,
+            Look::Points { .. } => at_centre(),
+            Look::OneRay(_) if at_points => {
+                // One ray from each point, as from the centre.
+                let poly = &sources.polygons[s.polygon as usize];
+                visibility
+                    .samples
+                    .iter()
+                    .filter(|&&(p, _)| {
+                        occluders.emitter_centre_visible(sources, p, own_surface, s.polygon)
+                    })
+                    .map(|&(p, w)| w * point_to_polygon(p, normal, poly.corners()))
+                    .sum()
+            }
+            Look::Centre(f) if at_points => at_the_points(f),
+            Look::Centre(f) | Look::OneRay(f) => f,
+            Look::Crowded if at_points => at_the_points(at_centre()),
+            Look::Crowded => at_centre(),
+        }
+    }
+
+    /// The visible form factor of every emitter patch in `looks` (one row's,
+    /// sorted by patch), by patch in the same order, zero where it is hidden:
+    /// each polygon's look settled the way the row takes its emitters (see
+    /// [`row_at_points`]), with the polygons only the points see added where
+    /// the row takes them at the points.
+    fn settle_row(&self, looks: &mut Vec<(Seen, PixelHint, Look)>) -> Vec<(u32, f64)> {
+        let at_points = row_at_points(looks, self.visibility);
+        if at_points {
+            self.looks_past_the_centre(looks);
+        }
+        let mut out: Vec<(u32, f64)> = Vec::new();
+        for &(s, hint, look) in looks.iter() {
+            let f = self.settle(look, at_points, s, hint);
+            match out.last_mut() {
+                Some(last) if last.0 == s.patch => last.1 += f,
+                _ => out.push((s.patch, f)),
+            }
+        }
+        out
     }
 }
 
@@ -193,188 +382,6 @@ fn row_at_points(looks: &[(Seen, PixelHint, Look)], visibility: &EmitterVisibili
     } else {
         visibility.samples.len() > 1
     }
-}
-
-/// Adds to `looks` (sorted by patch, then polygon) the emitter polygons
-/// that some of the element's points see but its centre does not (a floor
-/// element reaching under a floating box, whose side's plane passes between
-/// its points), with the points' mean, and keeps them sorted by patch. A row
-/// taken at the points must hold them: without them its emitters add up to
-/// less than the points see (in a furnace, 0.4% of an element's light).
-fn looks_past_the_centre(
-    sources: &Sources,
-    visibility: &EmitterVisibility<'_>,
-    normal: DVec3,
-    own_surface: u32,
-    looks: &mut Vec<(Seen, PixelHint, Look)>,
-) {
-    let samples = visibility.samples;
-    let before = looks.len();
-    for &j in &sources.emitters {
-        for q in sources.range(j) {
-            let poly = &sources.polygons[q];
-            if poly.surface == own_surface
-                || looks[..before]
-                    .binary_search_by_key(&(j, q as u32), |l| (l.0.patch, l.0.polygon))
-                    .is_ok()
-            {
-                continue;
-            }
-            let seen_by_a_point = samples.iter().any(|&(p, _)| {
-                poly.normal.dot(p - poly.centre) > 0.0
-                    && point_to_polygon(p, normal, poly.corners()) > 0.0
-            });
-            if !seen_by_a_point {
-                continue;
-            }
-            let found = visibility.occluders.mean_visible_form_factor(
-                sources,
-                samples,
-                normal,
-                own_surface,
-                q as u32,
-                false,
-            );
-            // Where clipping cannot decide, the polygon is left out, as the
-            // centre leaves it.
-            if let Some(mean) = found.found() {
-                let s = Seen {
-                    patch: j,
-                    polygon: q as u32,
-                    unoccluded: 0.0,
-                };
-                let look = Look::Points {
-                    mean,
-                    shadowed: true,
-                };
-                looks.push((s, PixelHint::Unseen, look));
-            }
-        }
-    }
-    if looks.len() > before {
-        looks.sort_by_key(|l| (l.0.patch, l.0.polygon));
-    }
-}
-
-/// The visible form factor of the seen polygon `s` from what `look` found:
-/// the points' mean where the sampling takes the points (with shadowed
-/// sampling, where something hides part of it from some point); else the
-/// centre's, its unoccluded form factor where nothing hid any of it from any
-/// point, clipped (or by rays) at the centre where too many surfaces did.
-#[allow(clippy::too_many_arguments)]
-fn settle(
-    look: Look,
-    at_points: bool,
-    sources: &Sources,
-    visibility: &EmitterVisibility<'_>,
-    eye: DVec3,
-    normal: DVec3,
-    own_surface: u32,
-    s: Seen,
-    hint: PixelHint,
-) -> f64 {
-    let occluders = visibility.occluders;
-    let at_centre = || {
-        occluders
-            .mean_visible_form_factor(
-                sources,
-                &[(eye, 1.0)],
-                normal,
-                own_surface,
-                s.polygon,
-                false,
-            )
-            .found()
-            .unwrap_or_else(|| {
-                let fraction = occluders.visible_fraction(
-                    sources,
-                    eye,
-                    normal,
-                    own_surface,
-                    s.polygon,
-                    visibility.seed,
-                    hint,
-                );
-                s.unoccluded * fraction
-            })
-    };
-    // The centre's visible share of the polygon carried over to the points'
-    // mean unoccluded form factor: what the points see of it, as far as
-    // its visibility is known at the centre alone.
-    let at_the_points = |f: f64| {
-        if f <= 0.0 {
-            return 0.0;
-        }
-        let poly = &sources.polygons[s.polygon as usize];
-        let unoccluded: f64 = visibility
-            .samples
-            .iter()
-            .filter(|&&(p, _)| poly.normal.dot(p - poly.centre) > 0.0)
-            .map(|&(p, w)| w * point_to_polygon(p, normal, poly.corners()))
-            .sum();
-        unoccluded * (f / s.unoccluded).min(1.0)
-    };
-    match look {
-        Look::Points { mean, .. } if at_points || !visibility.centre_where_clear => mean,
-        Look::Points {
-            shadowed: false, ..
-        } => s.unoccluded,
-        Look::Points { .. } => at_centre(),
-        Look::OneRay(_) if at_points => {
-            // One ray from each point, as from the centre.
-            let poly = &sources.polygons[s.polygon as usize];
-            visibility
-                .samples
-                .iter()
-                .filter(|&&(p, _)| {
-                    occluders.emitter_centre_visible(sources, p, own_surface, s.polygon)
-                })
-                .map(|&(p, w)| w * point_to_polygon(p, normal, poly.corners()))
-                .sum()
-        }
-        Look::Centre(f) if at_points => at_the_points(f),
-        Look::Centre(f) | Look::OneRay(f) => f,
-        Look::Crowded if at_points => at_the_points(at_centre()),
-        Look::Crowded => at_centre(),
-    }
-}
-
-/// The visible form factor of every emitter patch in `looks` (one row's,
-/// sorted by patch), by patch in the same order, zero where it is hidden:
-/// each polygon's look settled the way the row takes its emitters (see
-/// [`row_at_points`]), with the polygons only the points see added where
-/// the row takes them at the points.
-fn settle_row(
-    looks: &mut Vec<(Seen, PixelHint, Look)>,
-    sources: &Sources,
-    visibility: &EmitterVisibility<'_>,
-    eye: DVec3,
-    normal: DVec3,
-    own_surface: u32,
-) -> Vec<(u32, f64)> {
-    let at_points = row_at_points(looks, visibility);
-    if at_points {
-        looks_past_the_centre(sources, visibility, normal, own_surface, looks);
-    }
-    let mut out: Vec<(u32, f64)> = Vec::new();
-    for &(s, hint, look) in looks.iter() {
-        let f = settle(
-            look,
-            at_points,
-            sources,
-            visibility,
-            eye,
-            normal,
-            own_surface,
-            s,
-            hint,
-        );
-        match out.last_mut() {
-            Some(last) if last.0 == s.patch => last.1 += f,
-            _ => out.push((s.patch, f)),
-        }
-    }
-    out
 }
 
 /// The solid angle polygon `q` subtends at `eye`, to first order (its area
@@ -405,6 +412,13 @@ pub(crate) fn emitter_form_factors(
     visibility: &EmitterVisibility<'_>,
     hint: &dyn Fn(u32) -> PixelHint,
 ) -> Option<Vec<(u32, f64)>> {
+    let receiver = Receiver {
+        sources,
+        visibility,
+        eye,
+        normal,
+        own_surface,
+    };
     let mut looks: Vec<(Seen, PixelHint, Look)> = Vec::new();
     for &j in &sources.emitters {
         // Once per patch, and only for a patch the receiver sees.
@@ -427,11 +441,11 @@ pub(crate) fn emitter_form_factors(
                 unoccluded,
             };
             let h = *patch_hint.get_or_insert_with(|| hint(j));
-            let look = first_look(sources, visibility, eye, normal, own_surface, s, h);
+            let look = receiver.first_look(s, h);
             looks.push((s, h, look));
         }
     }
-    let mut out = settle_row(&mut looks, sources, visibility, eye, normal, own_surface);
+    let mut out = receiver.settle_row(&mut looks);
     out.retain(|e| e.1 > 0.0);
     Some(out)
 }
