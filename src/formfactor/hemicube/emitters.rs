@@ -49,24 +49,7 @@ impl Hemicube {
         own_surface: u32,
         visibility: &EmitterVisibility<'_>,
     ) {
-        let mut seen: Vec<Seen> = Vec::new();
-        for &j in &sources.emitters {
-            // Polygon by polygon (a face cluster that emits has several).
-            for q in sources.range(j) {
-                let poly = &sources.polygons[q];
-                if poly.surface == own_surface {
-                    continue;
-                }
-                let unoccluded = point_to_polygon(eye, normal, poly.corners());
-                if unoccluded > 0.0 {
-                    seen.push(Seen {
-                        patch: j,
-                        polygon: q as u32,
-                        unoccluded,
-                    });
-                }
-            }
-        }
+        let seen = seen_from(sources, eye, normal, own_surface);
         if seen.is_empty() {
             return;
         }
@@ -384,6 +367,30 @@ fn row_at_points(looks: &[(Seen, PixelHint, Look)], visibility: &EmitterVisibili
     }
 }
 
+/// Every emitter polygon (not on `own_surface`) with a positive unoccluded
+/// form factor from `eye` (unit `normal`), polygon by polygon (a face
+/// cluster that emits has several), by patch.
+fn seen_from(sources: &Sources, eye: DVec3, normal: DVec3, own_surface: u32) -> Vec<Seen> {
+    let mut seen: Vec<Seen> = Vec::new();
+    for &j in &sources.emitters {
+        for q in sources.range(j) {
+            let poly = &sources.polygons[q];
+            if poly.surface == own_surface {
+                continue;
+            }
+            let unoccluded = point_to_polygon(eye, normal, poly.corners());
+            if unoccluded > 0.0 {
+                seen.push(Seen {
+                    patch: j,
+                    polygon: q as u32,
+                    unoccluded,
+                });
+            }
+        }
+    }
+    seen
+}
+
 /// The solid angle polygon `q` subtends at `eye`, to first order (its area
 /// foreshortened over the squared distance to its centre): good enough to
 /// tell what is smaller than a pixel.
@@ -419,31 +426,18 @@ pub(crate) fn emitter_form_factors(
         normal,
         own_surface,
     };
-    let mut looks: Vec<(Seen, PixelHint, Look)> = Vec::new();
-    for &j in &sources.emitters {
-        // Once per patch, and only for a patch the receiver sees.
-        let mut patch_hint = None;
-        for q in sources.range(j) {
-            let poly = &sources.polygons[q];
-            if poly.surface == own_surface {
-                continue;
-            }
-            let unoccluded = point_to_polygon(eye, normal, poly.corners());
-            if unoccluded <= 0.0 {
-                continue;
-            }
-            if looks.len() == MANY_EMITTERS {
-                return None;
-            }
-            let s = Seen {
-                patch: j,
-                polygon: q as u32,
-                unoccluded,
-            };
-            let h = *patch_hint.get_or_insert_with(|| hint(j));
-            let look = receiver.first_look(s, h);
-            looks.push((s, h, look));
+    let seen = seen_from(sources, eye, normal, own_surface);
+    if seen.len() > MANY_EMITTERS {
+        return None;
+    }
+    let mut looks: Vec<(Seen, PixelHint, Look)> = Vec::with_capacity(seen.len());
+    // One hint per patch, and only for a patch the receiver sees.
+    let mut patch_hint = (u32::MAX, PixelHint::Unseen);
+    for s in seen {
+        if patch_hint.0 != s.patch {
+            patch_hint = (s.patch, hint(s.patch));
         }
+        looks.push((s, patch_hint.1, receiver.first_look(s, patch_hint.1)));
     }
     let mut out = receiver.settle_row(&mut looks);
     out.retain(|e| e.1 > 0.0);
