@@ -345,7 +345,7 @@ impl<'a> RowScene<'a> {
         // The Gauss points of an element lit without shadow give way to its
         // centre (see `EmitterSampling::Shadowed`); a partly covered
         // element's visible points are its mean in every mode.
-        let centre_where_clear =
+        let shadowed_sampling =
             view.coverage.is_none() && self.settings.emitter_sampling == EmitterSampling::Shadowed;
         let samples = self.emitter_samples(key, &view);
         let mut request = self.request(key, &view, hidden);
@@ -357,7 +357,7 @@ impl<'a> RowScene<'a> {
                 occluders: o,
                 seed: view.seed,
                 samples: &samples,
-                centre_where_clear,
+                shadowed_sampling,
             });
         let mut row = cube.row_for(&request);
         if let Some(c) = &view.coverage {
@@ -415,7 +415,7 @@ impl<'a> RowScene<'a> {
             occluders,
             seed: view.seed,
             samples: &samples,
-            centre_where_clear: self.settings.emitter_sampling == EmitterSampling::Shadowed,
+            shadowed_sampling: self.settings.emitter_sampling == EmitterSampling::Shadowed,
         };
         // Where the rays must decide, they trust what the lead's pixels saw
         // of each emitter (its row holds the visible form factor, to be

@@ -334,6 +334,7 @@ pub(super) fn pieces_form_factor(eye: DVec3, normal: DVec3, pieces: &[Piece]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analytic;
     use crate::math::clip_to_halfspace;
 
     #[test]
@@ -372,7 +373,6 @@ mod tests {
         }
         assert!(cut > 500, "{cut} of 2000 cut in two");
     }
-    use crate::analytic;
 
     fn square(z: f64, x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<DVec3> {
         vec![

@@ -68,7 +68,7 @@ pub(crate) struct EmitterVisibility<'a> {
     /// Shadowed sampling (see [`super::EmitterSampling::Shadowed`]): the
     /// points' means only in rows where something hides part of an emitter
     /// from some point, and few surfaces do; the centre's values elsewhere.
-    pub centre_where_clear: bool,
+    pub shadowed_sampling: bool,
 }
 
 /// Past this many surfaces casting a shadow on the first point of a

@@ -139,46 +139,23 @@ impl Receiver<'_> {
     /// The first look at the seen polygon `s`: clipped at the element's sample
     /// points where they can be, else by rays at the centre.
     fn first_look(&self, s: Seen, hint: PixelHint) -> Look {
-        let Receiver {
-            sources,
-            visibility,
-            eye,
-            normal,
-            own_surface,
-        } = *self;
-        let EmitterVisibility {
-            occluders,
-            seed,
-            samples,
-            centre_where_clear,
-        } = *visibility;
-        let rays = || {
-            s.unoccluded
-                * occluders.visible_fraction(
-                    sources,
-                    eye,
-                    normal,
-                    own_surface,
-                    s.polygon,
-                    seed,
-                    hint,
-                )
-        };
-        if samples.is_empty() {
-            return Look::Centre(rays());
+        let v = self.visibility;
+        if v.samples.is_empty() {
+            return Look::Centre(self.rays_at_centre(s, hint));
         }
-        let few_casters = centre_where_clear;
-        match occluders.mean_visible_form_factor(
-            sources,
-            samples,
-            normal,
-            own_surface,
+        // Shadowed sampling keeps the points to shafts with few casters.
+        let few_casters = v.shadowed_sampling;
+        match v.occluders.mean_visible_form_factor(
+            self.sources,
+            v.samples,
+            self.normal,
+            self.own_surface,
             s.polygon,
             few_casters,
         ) {
             PointsMean::Visible { mean, shadowed } => Look::Points { mean, shadowed },
             PointsMean::Crowded => Look::Crowded,
-            PointsMean::Undecided => Look::Centre(rays()),
+            PointsMean::Undecided => Look::Centre(self.rays_at_centre(s, hint)),
         }
     }
 
@@ -269,18 +246,7 @@ impl Receiver<'_> {
                     false,
                 )
                 .found()
-                .unwrap_or_else(|| {
-                    let fraction = occluders.visible_fraction(
-                        sources,
-                        eye,
-                        normal,
-                        own_surface,
-                        s.polygon,
-                        visibility.seed,
-                        hint,
-                    );
-                    s.unoccluded * fraction
-                })
+                .unwrap_or_else(|| self.rays_at_centre(s, hint))
         };
         // The centre's visible share of the polygon carried over to the points'
         // mean unoccluded form factor: what the points see of it, as far as
@@ -290,37 +256,57 @@ impl Receiver<'_> {
                 return 0.0;
             }
             let poly = &sources.polygons[s.polygon as usize];
-            let unoccluded: f64 = visibility
-                .samples
-                .iter()
-                .filter(|&&(p, _)| poly.normal.dot(p - poly.centre) > 0.0)
-                .map(|&(p, w)| w * point_to_polygon(p, normal, poly.corners()))
-                .sum();
-            unoccluded * (f / s.unoccluded).min(1.0)
+            let front = |p: DVec3| poly.normal.dot(p - poly.centre) > 0.0;
+            self.mean_over_points(s, front) * (f / s.unoccluded).min(1.0)
         };
         match look {
-            Look::Points { mean, .. } if at_points || !visibility.centre_where_clear => mean,
-            Look::Points {
-                shadowed: false, ..
-            } => s.unoccluded,
-            Look::Points { .. } => at_centre(),
+            // In a shadowed sampling row at the centre no look is shadowed
+            // at the points (see `row_at_points`).
+            Look::Points { mean, shadowed }
+                if at_points || shadowed || !visibility.shadowed_sampling =>
+            {
+                mean
+            }
+            Look::Points { .. } => s.unoccluded,
             Look::OneRay(_) if at_points => {
                 // One ray from each point, as from the centre.
-                let poly = &sources.polygons[s.polygon as usize];
-                visibility
-                    .samples
-                    .iter()
-                    .filter(|&&(p, _)| {
-                        occluders.emitter_centre_visible(sources, p, own_surface, s.polygon)
-                    })
-                    .map(|&(p, w)| w * point_to_polygon(p, normal, poly.corners()))
-                    .sum()
+                let open =
+                    |p: DVec3| occluders.emitter_centre_visible(sources, p, own_surface, s.polygon);
+                self.mean_over_points(s, open)
             }
             Look::Centre(f) if at_points => at_the_points(f),
             Look::Centre(f) | Look::OneRay(f) => f,
             Look::Crowded if at_points => at_the_points(at_centre()),
             Look::Crowded => at_centre(),
         }
+    }
+
+    /// Shadow rays from the centre to the seen polygon `s`, weighted as its
+    /// unoccluded form factor (`hint`: what the pixels saw of its patch).
+    fn rays_at_centre(&self, s: Seen, hint: PixelHint) -> f64 {
+        let v = self.visibility;
+        let fraction = v.occluders.visible_fraction(
+            self.sources,
+            self.eye,
+            self.normal,
+            self.own_surface,
+            s.polygon,
+            v.seed,
+            hint,
+        );
+        s.unoccluded * fraction
+    }
+
+    /// The mean over the element's points from which `sees` holds of their
+    /// unoccluded form factor to the seen polygon `s` (zero from the rest).
+    fn mean_over_points(&self, s: Seen, sees: impl Fn(DVec3) -> bool) -> f64 {
+        let corners = self.sources.polygons[s.polygon as usize].corners();
+        self.visibility
+            .samples
+            .iter()
+            .filter(|&&(p, _)| sees(p))
+            .map(|&(p, w)| w * point_to_polygon(p, self.normal, corners))
+            .sum()
     }
 
     /// The visible form factor of every emitter patch in `looks` (one row's,
@@ -358,7 +344,7 @@ impl Receiver<'_> {
 /// the points' mean unoccluded form factor times the centre's visible share
 /// (see [`settle`]).
 fn row_at_points(looks: &[(Seen, PixelHint, Look)], visibility: &EmitterVisibility<'_>) -> bool {
-    if visibility.centre_where_clear {
+    if visibility.shadowed_sampling {
         looks
             .iter()
             .any(|l| matches!(l.2, Look::Points { shadowed: true, .. }))
