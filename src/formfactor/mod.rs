@@ -20,7 +20,7 @@ mod store;
 mod unoccluded;
 mod visibility;
 
-pub(crate) use backfaces::ClosedObjects;
+pub(crate) use backfaces::{back_to_back_twins, ClosedObjects};
 pub(crate) use eye::{eye_lift, receiving_point};
 pub(crate) use hemicube::PartSources;
 pub use method::{EmitterSampling, FormFactorMethod};

@@ -7,8 +7,8 @@ use super::hemicube::{Cull, DeltaTable, Hemicube, HemicubeStats, PartSources, Ro
 use super::scratch::map_items;
 use super::EmitterShift;
 use super::{
-    element_samples, eye_lift, point_to_polygon, unoccluded_row, ClosedObjects, EmitterSampling,
-    EmitterVisibility, FormFactors, Occluders, PixelHint, Row, Samples, Sources,
+    back_to_back_twins, element_samples, eye_lift, point_to_polygon, unoccluded_row, ClosedObjects,
+    EmitterSampling, EmitterVisibility, FormFactors, Occluders, PixelHint, Row, Samples, Sources,
 };
 use crate::mesh::{Cell, ElementKey, Mesh};
 use glam::DVec3;
@@ -197,6 +197,9 @@ pub(crate) struct RowScene<'a> {
     /// Where other objects touch a surface, the elements they cover in part.
     contacts: Option<Contacts>,
     closed: Option<ClosedObjects>,
+    /// Per surface, whether a back-to-back twin hides its back (see
+    /// [`back_to_back_twins`]); `None` when no surface has one.
+    twins: Option<Vec<bool>>,
 }
 
 /// Where a leaf looks from.
@@ -231,6 +234,9 @@ impl<'a> RowScene<'a> {
         let closed = (skips.hidden_back_faces && !exact)
             .then(|| ClosedObjects::new(mesh))
             .filter(|c| !c.is_empty());
+        let twins = (!exact)
+            .then(|| back_to_back_twins(mesh))
+            .filter(|t| t.iter().any(|&t| t));
         RowScene {
             mesh,
             sources,
@@ -241,6 +247,7 @@ impl<'a> RowScene<'a> {
             occluders,
             contacts,
             closed,
+            twins,
         }
     }
 
@@ -296,10 +303,19 @@ impl<'a> RowScene<'a> {
     ) -> RowRequest<'r> {
         let e = &self.mesh.elements[key];
         let lattice = &self.mesh.surfaces[e.surface as usize];
-        let hidden_back = self.closed.as_ref().map(|c| {
-            c.hidden_from(view.eye, hidden);
-            hidden.as_slice()
-        });
+        let hidden_back = match (&self.closed, &self.twins) {
+            (Some(c), twins) => {
+                c.hidden_from(view.eye, hidden);
+                if let Some(twins) = twins {
+                    for (h, &t) in hidden.iter_mut().zip(twins) {
+                        *h |= t;
+                    }
+                }
+                Some(hidden.as_slice())
+            }
+            (None, Some(twins)) => Some(twins.as_slice()),
+            (None, None) => None,
+        };
         RowRequest {
             sources: self.sources,
             hidden_back,

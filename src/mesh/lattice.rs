@@ -99,6 +99,10 @@ pub struct SurfaceLattice {
     /// What the emissive texture's values are multiplied by: 1, or the power
     /// of two the solve scales every emission by (see `pipeline::scale`).
     pub emission_scale: f64,
+    /// The largest patch edge this surface was cut at: the solve's patch
+    /// size, or a finer one where its emissive texture varies (see
+    /// `emission_grid`).
+    pub patch_size: f64,
 }
 
 impl SurfaceLattice {
@@ -167,6 +171,7 @@ impl SurfaceLattice {
                 texture: None,
                 emissive_texture: None,
                 emission_scale: 1.0,
+                patch_size,
             },
             cells,
         )

@@ -51,6 +51,9 @@ pub struct HemicubeFigures {
     /// Emitter polygons seen as less than a pixel by a row that sees many
     /// emitter polygons: Lambert's formula times one shadow ray each.
     pub emitters_one_ray: u64,
+    /// Emitter polygons of patches the item buffer saw whole or hidden, in
+    /// rows that see many emitter polygons: taken as the pixels saw them.
+    pub emitters_by_pixels: u64,
 }
 
 /// The energy balance of the final gather, per band and summed over bands.
@@ -295,6 +298,7 @@ impl SolveStats {
             max_row_sum: sums.iter().copied().fold(0.0, f64::max),
             emitters_exact: hemicube.emitters_exact,
             emitters_one_ray: hemicube.emitters_one_ray,
+            emitters_by_pixels: hemicube.emitters_by_pixels,
         };
         self.memory = MemoryFigures::of(mesh, form_factors, radiosity, system);
         self.solver = report;

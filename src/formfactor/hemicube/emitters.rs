@@ -11,8 +11,13 @@
 //! hemi-cube resolves anyway. Past [`MANY_EMITTERS`] seen polygons, those
 //! smaller than a pixel take Lambert's formula at the receiving point times
 //! one shadow ray to their centre, and the cost of a row stays in proportion
-//! to what its pixels can tell apart. Rows that see fewer emitter polygons
-//! (every built-in scene) are computed as before, bit for bit.
+//! to what its pixels can tell apart. In such rows, too, a polygon of a patch
+//! the pixels saw whole (or saw hidden wherever it would lie) takes that
+//! answer without rays: only patches the pixels saw in part, where a shadow
+//! edge crosses, are clipped exactly. (A tessellated lamp whose emissive
+//! texture lights 2 500 facets spent two thirds of its time clipping
+//! polygons the pixels had seen whole.) Rows that see fewer emitter
+//! polygons (every built-in scene) are computed as before, bit for bit.
 
 use super::Hemicube;
 use crate::formfactor::{point_to_polygon, EmitterVisibility, PixelHint, PointsMean, Row, Sources};
@@ -22,6 +27,15 @@ use glam::DVec3;
 /// A row that sees more emitter polygons than this treats those seen as
 /// less than a pixel with one shadow ray each.
 pub(crate) const MANY_EMITTERS: usize = 64;
+
+/// In a row that sees many emitter polygons, a polygon of a patch the pixels
+/// saw whole, or saw none of, is taken as the pixels saw it only while it
+/// is seen as less than this many pixels. A larger one may still show a
+/// sliver past what hides it, or hide a sliver behind what the pixels
+/// missed, and a row taken at the element's points needs what each point
+/// sees of it: clipping finds both. (Taking every such polygon from the
+/// pixels put elements of a furnace room 1.5% off.)
+const TRUSTED_PIXELS: f64 = 16.0;
 
 /// One emitter polygon a receiver sees: its patch, its index among the
 /// source polygons and its unoccluded form factor.
@@ -69,7 +83,21 @@ impl Hemicube {
             if hint.0 != s.patch {
                 hint = (s.patch, self.hint(row, s.patch));
             }
-            let look = if many && solid_angle(sources, s.polygon, eye) < pixel {
+            let angle = if many {
+                solid_angle(sources, s.polygon, eye)
+            } else {
+                f64::INFINITY
+            };
+            let trusted = angle < TRUSTED_PIXELS * pixel
+                && matches!(hint.1, PixelHint::Whole | PixelHint::Hidden);
+            let look = if many && trusted {
+                // A small polygon of a patch the pixels saw whole, or saw
+                // none of: no shadow edge crosses it that the item buffer
+                // could resolve, so its answer is taken.
+                self.stats.emitters_by_pixels += 1;
+                let whole = matches!(hint.1, PixelHint::Whole);
+                Look::Pixels(if whole { s.unoccluded } else { 0.0 })
+            } else if many && angle < pixel {
                 self.stats.emitters_one_ray += 1;
                 let occluders = visibility.occluders;
                 let open = occluders.emitter_centre_visible(sources, eye, own_surface, s.polygon);
@@ -122,6 +150,13 @@ enum Look {
     /// Shadowed sampling found too many surfaces casting shadows for the
     /// points: the centre decides.
     Crowded,
+    /// Taken from the pixels at the centre, in a row that sees many emitter
+    /// polygons, for a small polygon of a patch the pixels saw whole or saw
+    /// none of. A row taken at the points looks at it exactly after all:
+    /// what the points see of it may differ from what the centre's pixels
+    /// did (a polygon hidden from the centre by a shadow's edge can show to
+    /// some points).
+    Pixels(f64),
 }
 
 /// A receiving element as its emitter entries see it: its centre `eye`,
@@ -275,7 +310,8 @@ impl Receiver<'_> {
                 self.mean_over_points(s, open)
             }
             Look::Centre(f) if at_points => at_the_points(f),
-            Look::Centre(f) | Look::OneRay(f) => f,
+            Look::Pixels(_) if at_points => self.settle(self.first_look(s, hint), true, s, hint),
+            Look::Centre(f) | Look::OneRay(f) | Look::Pixels(f) => f,
             Look::Crowded if at_points => at_the_points(at_centre()),
             Look::Crowded => at_centre(),
         }

@@ -29,11 +29,14 @@ pub struct HemicubeStats {
     /// Emitter polygons seen as less than a pixel by a row that sees many,
     /// given one shadow ray each (see `emitters.rs`).
     pub emitters_one_ray: u64,
+    /// Emitter polygons of patches the pixels saw whole or hidden, in a row
+    /// that sees many, taken as the pixels saw them (see `emitters.rs`).
+    pub emitters_by_pixels: u64,
 }
 
 impl HemicubeStats {
     /// Every counter, in declaration order, for element-wise arithmetic.
-    fn counters(&mut self) -> [&mut u64; 10] {
+    fn counters(&mut self) -> [&mut u64; 11] {
         [
             &mut self.hemicubes,
             &mut self.polygons_rasterized,
@@ -45,6 +48,7 @@ impl HemicubeStats {
             &mut self.exact_rows,
             &mut self.emitters_exact,
             &mut self.emitters_one_ray,
+            &mut self.emitters_by_pixels,
         ]
     }
 }
