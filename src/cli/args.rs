@@ -148,6 +148,12 @@ pub struct ReferenceArgs {
     /// How the scene is loaded.
     #[command(flatten)]
     pub load: LoadArgs,
+    /// Report the cells of a grid this many metres wide instead of the
+    /// scene's objects (each surface in the cell of its centroid), as
+    /// `solve --regions` does, so that a one-mesh model can be compared
+    /// region by region.
+    #[arg(long, value_name = "METRES")]
+    pub regions: Option<f64>,
     /// Output JSON file [default: standard output].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -172,6 +178,30 @@ pub struct LoadArgs {
     /// still reflect light).
     #[arg(long = "double-sided")]
     pub double_sided: bool,
+    /// Light the scene with a sky above it (world +Y up; nothing from below
+    /// the horizon): uniform (the same radiance everywhere) or overcast (the
+    /// CIE standard overcast sky, three times brighter at the zenith than
+    /// at the horizon). It replaces a sky the scene has; its light passes
+    /// the scene's openings, with the scene's own lights.
+    #[arg(long, value_parser = ["uniform", "overcast"])]
+    pub sky: Option<String>,
+    /// The sky's brightness as the illuminance, in lux, of an unobstructed
+    /// horizontal surface [default: 10000, an overcast day].
+    #[arg(
+        long = "sky-illuminance",
+        value_name = "LUX",
+        requires = "sky",
+        conflicts_with = "sky_luminance"
+    )]
+    pub sky_illuminance: Option<f64>,
+    /// The sky's brightness as its luminance at the zenith, in cd/m².
+    #[arg(long = "sky-luminance", value_name = "CD_PER_M2", requires = "sky")]
+    pub sky_luminance: Option<f64>,
+    /// Add a sun: AZIMUTH,ELEVATION,LUX, degrees clockwise from north (-Z)
+    /// towards east (+X), degrees above the horizon, and the illuminance of
+    /// a surface facing it, in lux (a clear day's sun gives about 100 000).
+    #[arg(long, value_name = "AZIMUTH,ELEVATION,LUX")]
+    pub sun: Option<String>,
 }
 
 /// `radiosity export-scene`.
@@ -205,6 +235,11 @@ pub struct SolveArgs {
     /// Also draw the element mesh over the image into this PNG.
     #[arg(long = "mesh-out")]
     pub mesh_out: Option<PathBuf>,
+    /// List in the stats JSON's `surfaces` the cells of a grid this many
+    /// metres wide instead of the scene's objects (each surface in the cell
+    /// of its centroid), for comparison with `reference --regions`.
+    #[arg(long, value_name = "METRES")]
+    pub regions: Option<f64>,
     /// Print no progress (bars on a terminal, plain lines every few seconds
     /// otherwise).
     #[arg(long)]

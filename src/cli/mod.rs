@@ -6,6 +6,7 @@ mod camera_arg;
 mod checks;
 mod compare_cmd;
 mod converge_cmd;
+mod daylight_args;
 mod diff_cmd;
 mod peak_memory;
 mod probe_cmd;

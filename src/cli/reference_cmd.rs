@@ -7,14 +7,15 @@ use anyhow::Result;
 use radiosity::math::Rgb;
 use radiosity::output::{check_target, write_bytes};
 use radiosity::reference::{Reference, ReferenceSettings};
+use radiosity::scene::{Scene, EMISSION_DEPTH};
 use serde::Serialize;
 use std::time::Instant;
 
 #[derive(Serialize)]
 struct ObjectReference {
     name: String,
-    /// Whether any surface of the object emits (its radiosity is then mostly
-    /// its own emission, which `compare` does not count).
+    /// Whether the object's light is mostly its own emission (more than half
+    /// of its radiosity), which `compare` does not count.
     emits: bool,
     radiosity: Rgb,
     std_error: Rgb,
@@ -31,6 +32,32 @@ struct Report {
     surfaces: Vec<ObjectReference>,
 }
 
+/// Per object, its area-mean emitted exitance: each surface's emission
+/// averaged over its footprint in its emissive texture where it has one.
+fn object_emission(scene: &Scene) -> Vec<Rgb> {
+    let mut sums = vec![(0.0, Rgb::ZERO); scene.objects.len()];
+    for s in &scene.surfaces {
+        let m = scene.material_of(s);
+        let e = match (&m.emissive_texture, s.uv.len() == s.vertices.len()) {
+            (Some(t), true) => t.mean_over_refined(&s.uv, EMISSION_DEPTH),
+            _ => m.emission,
+        };
+        let slot = &mut sums[s.object as usize];
+        slot.0 += s.area;
+        slot.1 += e * s.area;
+    }
+    sums.into_iter()
+        .map(|(a, e)| if a > 0.0 { e / a } else { Rgb::ZERO })
+        .collect()
+}
+
+/// Whether an object's light is mostly its own emission (more than half of
+/// its radiosity in its brightest band): `compare` leaves those out, since
+/// the solve is given their emission rather than computing it.
+fn mostly_emitted(emitted: &Rgb, radiosity: &Rgb) -> bool {
+    emitted.max_band() > 0.0 && emitted.max_band() > 0.5 * radiosity.max_band()
+}
+
 /// Runs `radiosity reference`.
 pub fn run(a: &ReferenceArgs) -> Result<()> {
     let pool = thread_pool(a.threads)?;
@@ -45,11 +72,16 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
         check_target(path)?;
     }
     let scene = load(&a.scene, &options)?;
+    let scene = match a.regions {
+        Some(cell) => scene.regions_by_grid(cell)?,
+        None => scene,
+    };
     let started = Instant::now();
     let means = pool.install(|| -> Result<_> {
         let reference = Reference::new(&scene)?;
         Ok(reference.object_means(&settings)?)
     })?;
+    let emitted = object_emission(&scene);
     let report = Report {
         scene: scene.name.clone(),
         method: "path tracing with next-event estimation (MIS), uniform points per object",
@@ -63,10 +95,7 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
             .enumerate()
             .map(|(i, (o, m))| ObjectReference {
                 name: o.name.clone(),
-                emits: scene
-                    .surfaces
-                    .iter()
-                    .any(|s| s.object as usize == i && scene.material_of(s).is_emitter()),
+                emits: mostly_emitted(&emitted[i], &m.radiosity),
                 radiosity: m.radiosity,
                 std_error: m.std_error,
                 paths: m.paths,

@@ -27,6 +27,8 @@ pub fn load_options(a: &LoadArgs) -> Result<LoadOptions> {
         overlaps: a.overlaps.parse().map_err(anyhow::Error::msg)?,
         max_reflectance: a.max_reflectance,
         double_sided: a.double_sided,
+        sky: a.sky()?,
+        sun: a.sun()?,
     };
     options.validate()?;
     Ok(options)
@@ -52,6 +54,7 @@ pub fn load(scene: &str, options: &LoadOptions) -> Result<Scene> {
             s.make_double_sided();
         }
         s.resolve_overlaps(options.overlaps)?;
+        options.add_daylight(&mut s);
         s
     };
     scene.check_light()?;
@@ -258,6 +261,11 @@ fn run_in_pool(
     // The file names follow the scene's name: checked now, before the solve.
     check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
     check_target(&a.out.join(format!("{}.json", scene.name)))?;
+    // Checked before the solve too: a bad cell size is known now.
+    let regions = a
+        .regions
+        .map(|cell| scene.regions_by_grid(cell))
+        .transpose()?;
 
     let bars = Bars::new(a.quiet);
     let mut previews = PreviewWriter {
@@ -361,7 +369,10 @@ fn run_in_pool(
         import: &scene.import_stats,
         warnings: &warnings,
         outputs,
-        surfaces: solution.object_radiosity(&scene),
+        surfaces: match &regions {
+            Some(regions) => solution.object_radiosity(regions),
+            None => solution.object_radiosity(&scene),
+        },
     };
     let text = serde_json::to_string_pretty(&report)? + "\n";
     staged.stage_bytes(&json, text.as_bytes())?;

@@ -136,5 +136,6 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
         })?;
     let far = scene.outlier_warning();
     scene.warnings.extend(far);
+    options.add_daylight(&mut scene);
     Ok(scene)
 }

@@ -1,7 +1,7 @@
 //! What the importer repairs in a file, and how far.
 
 use crate::error::{Error, Result};
-use crate::scene::Overlaps;
+use crate::scene::{Light, Overlaps, Scene, Sky};
 use crate::solve::MAX_CONTRACTION;
 
 /// The largest diffuse reflectance the importer keeps by default; every band
@@ -34,6 +34,12 @@ pub struct LoadOptions {
     /// patches back to back, so that faces pointing the wrong way still
     /// reflect light.
     pub double_sided: bool,
+    /// A sky to light the scene with (see [`Sky`]), in place of any the
+    /// scene has: models exported before anyone lit them are common.
+    pub sky: Option<Sky>,
+    /// A sun (a directional light, see [`crate::scene::sun`]) added to the
+    /// scene's lights.
+    pub sun: Option<Light>,
 }
 
 impl Default for LoadOptions {
@@ -42,6 +48,8 @@ impl Default for LoadOptions {
             overlaps: Overlaps::default(),
             max_reflectance: DEFAULT_MAX_REFLECTANCE,
             double_sided: false,
+            sky: None,
+            sun: None,
         }
     }
 }
@@ -59,6 +67,20 @@ impl LoadOptions {
                 ),
             });
         }
+        if let Some(sky) = &self.sky {
+            sky.validate()?;
+        }
+        if let Some(sun) = &self.sun {
+            sun.validate()?;
+        }
         Ok(())
+    }
+
+    /// Gives `scene` the sky and the sun these options ask for.
+    pub fn add_daylight(&self, scene: &mut Scene) {
+        if self.sky.is_some() {
+            scene.sky = self.sky;
+        }
+        scene.lights.extend(self.sun.clone());
     }
 }

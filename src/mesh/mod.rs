@@ -13,6 +13,7 @@ mod locate;
 mod point_probe;
 mod shading;
 mod texels;
+mod welds;
 
 pub(crate) use cell::Probe;
 pub use cell::{Cell, MAX_DEPTH};
@@ -21,6 +22,7 @@ pub(crate) use lattice::PatchGrid;
 pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity, HIDDEN_WEIGHT};
 pub use texels::{ShadingTexels, TexelSurface};
+pub use welds::SMOOTH_ANGLE_DEGREES;
 
 use crate::error::{Error, Result};
 use crate::math::{polygon_area, polygon_centroid, Rgb};

@@ -8,6 +8,7 @@
 
 use super::cell::Probe;
 use super::texels::{ShadingTexels, TexelSurface};
+use super::welds::Welds;
 use super::{ElementKey, Mesh};
 use crate::math::Rgb;
 use glam::{DVec2, DVec3};
@@ -101,6 +102,22 @@ impl Mesh {
                 s.1 += weight;
             }
         }
+        // Corners of a smooth mesh's facets that meet take one mean, over
+        // facets that reflect and emit alike (a mean across two materials
+        // would blend their colours at the vertex).
+        Welds::new(self, |a, b| {
+            let (a, b) = (&self.surfaces[a as usize], &self.surfaces[b as usize]);
+            a.reflectance == b.reflectance
+                && a.emission == b.emission
+                && a.texture.is_none()
+                && b.texture.is_none()
+                && a.emissive_texture.is_none()
+                && b.emissive_texture.is_none()
+        })
+        .pool(&mut sums, |t, s| {
+            t.0 += s.0;
+            t.1 += s.1;
+        });
         let values: HashMap<VertexId, Rgb> = sums
             .into_iter()
             .map(|(k, (sum, w))| (k, if w > 0.0 { sum / w } else { Rgb::ZERO }))

@@ -18,6 +18,7 @@
 //! 0), so the drawn value is the emission alone, as the solve has it.
 
 use super::shading::VertexId;
+use super::welds::Welds;
 use super::HIDDEN_WEIGHT;
 use super::{ElementKey, Mesh, VertexRadiosity};
 use crate::math::Rgb;
@@ -102,6 +103,14 @@ impl Mesh {
                 }
             }
         }
+        // Irradiance does not depend on the material: the corners of a
+        // smooth mesh's facets pool it whatever their textures.
+        Welds::new(self, |_, _| true).pool(&mut sums, |t, s| {
+            for band in 0..3 {
+                t.0[band] += s.0[band];
+                t.1[band] += s.1[band];
+            }
+        });
         let values = sums
             .into_iter()
             .map(|(id, (sum, weight))| {

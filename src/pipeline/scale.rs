@@ -35,10 +35,11 @@ impl EmissionScale {
     /// about 1e308 times dimmer) cannot count at any tolerance: it is set to
     /// 0, with a warning in `warnings` naming its material.
     ///
-    /// A scene with punctual lights is solved at its own scale: their direct
-    /// light is computed from the scene's intensities, in its units.
+    /// A scene with punctual lights or a sky is solved at its own scale:
+    /// their direct light is computed from the scene's intensities, in its
+    /// units.
     pub(crate) fn normalise(mesh: &mut Mesh, scene: &Scene, warnings: &mut Vec<String>) -> Self {
-        if !scene.lights.is_empty() {
+        if !scene.lights.is_empty() || scene.sky.is_some() {
             return Self::ONE;
         }
         let brightest = mesh

@@ -48,6 +48,12 @@ impl Reference {
             value += weight * self.punctual_term(surface, origin, normal);
             let dir = cosine_direction(normal, rng.uniform(), rng.uniform());
             let Some(hit) = self.accel.nearest(&self.geometry, origin, dir, surface) else {
+                // Out of the scene: the sky, if any, is what it meets. A
+                // cosine-distributed direction estimates the irradiance
+                // `integral L cos dw` as `pi L(dir)`.
+                if let Some(sky) = &self.sky {
+                    value += weight * sky.radiance(dir) * PI;
+                }
                 break;
             };
             if !hit.front {

@@ -147,6 +147,8 @@ pub struct Reference {
     emitters: Option<Emitters>,
     /// Punctual lights, sampled by next-event estimation.
     lights: Vec<crate::scene::Light>,
+    /// The sky, met by paths that leave the scene.
+    sky: Option<crate::scene::Sky>,
     accel: Accel,
     tolerances: Tolerances,
     diameter: f64,
@@ -226,6 +228,7 @@ impl Reference {
             objects,
             emitters,
             lights: scene.lights.clone(),
+            sky: scene.sky,
             accel,
             tolerances,
             diameter,

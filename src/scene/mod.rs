@@ -12,6 +12,8 @@ mod framing;
 mod light;
 mod material;
 mod overlaps;
+mod regions;
+mod sky;
 mod surface;
 mod texture;
 
@@ -23,6 +25,7 @@ pub use light::{range_window, spot_falloff, Incident, Light, LightKind, Target};
 pub use material::Material;
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::{Overlaps, COPLANAR_GAP};
+pub use sky::{sun, Sky, SkyModel};
 pub use surface::{Surface, MAX_COORDINATE};
 pub use texture::{uv_transform, Texture, Wrap, EMISSION_DEPTH, FOOTPRINT_SAMPLES, SHARP_CONTRAST};
 
@@ -80,6 +83,9 @@ pub struct Scene {
     /// Punctual lights (point, spot, directional): sources outside the mesh,
     /// whose direct light enters the solution as its first reflection.
     pub lights: Vec<Light>,
+    /// A sky over the scene (see [`Sky`]): a source at infinity whose light
+    /// each surface receives where nothing hides the sky from it.
+    pub sky: Option<Sky>,
     /// Cameras found in the file (the first is the default view).
     pub cameras: Vec<Camera>,
     /// Things the importer skipped or changed, in words a user can act on.
@@ -126,7 +132,8 @@ impl Scene {
     /// material emits, or a punctual light of some intensity.
     #[must_use]
     pub fn has_light(&self) -> bool {
-        self.lights.iter().any(Light::shines)
+        self.sky.is_some_and(|s| s.zenith.max_band() > 0.0)
+            || self.lights.iter().any(Light::shines)
             || self
                 .surfaces
                 .iter()
@@ -171,6 +178,9 @@ impl Scene {
 
     /// Checks every punctual light ([`Light::validate`]).
     pub fn check_lights(&self) -> crate::Result<()> {
+        if let Some(sky) = &self.sky {
+            sky.validate()?;
+        }
         self.lights.iter().try_for_each(Light::validate)
     }
 

@@ -27,7 +27,9 @@ impl ObjectRadiosity {
 }
 
 /// The area-weighted mean over the leaves of each object of `scene` of
-/// `value(leaf, its surface)`.
+/// `value(leaf, its surface)`. Objects are read from `scene`'s surfaces, so a
+/// scene regrouped into other objects over the same surfaces (such as
+/// [`Scene::regions_by_grid`]) gives the means of those.
 pub(crate) fn object_means(
     scene: &Scene,
     mesh: &Mesh,
@@ -36,7 +38,7 @@ pub(crate) fn object_means(
     let mut sums = vec![(0.0, Rgb::ZERO); scene.objects.len()];
     for (k, e) in mesh.elements.iter().filter(|(_, e)| e.is_leaf()) {
         let surface = &mesh.surfaces[e.surface as usize];
-        let slot = &mut sums[surface.object as usize];
+        let slot = &mut sums[scene.surfaces[e.surface as usize].object as usize];
         slot.0 += e.area;
         slot.1 += value(k, surface) * e.area;
     }

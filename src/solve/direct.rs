@@ -19,7 +19,8 @@
 use crate::formfactor::{element_samples, eye_lift, FormFactors, Occluders, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
-use crate::scene::{Light, Target};
+use crate::scene::{Light, Sky, Target};
+use crate::solve::sky_light::sky_irradiance;
 use crate::solve::system::{scene_is_closed, weight};
 use crate::solve::PatchSystem;
 use glam::DVec3;
@@ -55,9 +56,16 @@ impl DirectLight {
     /// Computes the irradiance of every leaf of `mesh` that has none yet
     /// (new leaves of a split; every leaf the first time), with shadow rays
     /// through the patch polygons of `sources`. Returns how many leaves it
-    /// computed. The same bits at any thread count: each leaf's value
+    /// computed. With a `sky`, its light on each leaf is added (see
+    /// `sky_light`). The same bits at any thread count: each leaf's value
     /// depends on that leaf alone.
-    pub(crate) fn update(&mut self, mesh: &Mesh, sources: &Sources, lights: &[Light]) -> usize {
+    pub(crate) fn update(
+        &mut self,
+        mesh: &Mesh,
+        sources: &Sources,
+        lights: &[Light],
+        sky: Option<&Sky>,
+    ) -> usize {
         let keys: Vec<ElementKey> = mesh
             .leaves()
             .into_iter()
@@ -70,7 +78,30 @@ impl DirectLight {
         let far = far_distance(sources);
         let results: Vec<(Rgb, u64)> = keys
             .par_iter()
-            .map(|&k| leaf_irradiance(mesh, sources, &occluders, far, lights, k))
+            .map(|&k| {
+                let (h, rays) = leaf_irradiance(mesh, sources, &occluders, far, lights, k);
+                match sky {
+                    Some(sky) => {
+                        let e = &mesh.elements[k];
+                        let lattice = &mesh.surfaces[e.surface as usize];
+                        let samples = element_samples(
+                            &lattice.polygon(&e.cell),
+                            eye_lift(lattice.normal, e.area),
+                        );
+                        let (hs, more) = sky_irradiance(
+                            sky,
+                            sources,
+                            &occluders,
+                            far,
+                            e.surface,
+                            lattice.normal,
+                            &samples,
+                        );
+                        (h + hs, rays + more)
+                    }
+                    None => (h, rays),
+                }
+            })
             .collect();
         for (&k, (h, rays)) in keys.iter().zip(results) {
             self.irradiance.insert(k, h);

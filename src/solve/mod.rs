@@ -16,6 +16,7 @@ mod gauss_seidel;
 pub mod progressive;
 mod radiosity;
 mod ragged;
+mod sky_light;
 pub(crate) mod source_shape;
 mod system;
 

@@ -42,6 +42,7 @@ mod scale_scene;
 mod shared_rows;
 mod size_series;
 mod skips;
+mod sky;
 mod smooth_meshes;
 mod source_shapes;
 mod stability;
