@@ -7,7 +7,7 @@ use super::document::parse;
 use super::lights::placed_lights;
 use super::limits::ImportLimits;
 use super::materials::{convert_materials, used_materials};
-use super::meshes::{add_mesh_instance, Decoded, Source};
+use super::meshes::{add_mesh_instance, masked_triangles, Decoded, MaskTally, Source};
 use super::nodes::walk;
 use super::options::LoadOptions;
 use super::textures::Images;
@@ -76,12 +76,16 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
             .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned()),
         ..Scene::default()
     };
-    let doc = parse(path, &container.json, &mut scene.warnings)?;
+    #[allow(unused_mut)] // Draco decoding rewrites accessors.
+    let mut doc = parse(path, &container.json, &mut scene.warnings)?;
     let mut buffers = load_buffers(path, &doc, container.bin, limits)?;
     super::meshopt::decompress_views(&doc, &mut buffers).map_err(|m| super::gltf_error(path, m))?;
+    #[cfg(feature = "draco")]
+    super::draco::decompress_primitives(&mut doc, &mut buffers, limits)
+        .map_err(|m| super::gltf_error(path, m))?;
     let placed = walk(path, &doc, limits)?;
     let mut images = Images::new(&doc, &buffers, path, limits);
-    scene.materials = convert_materials(
+    let (materials, masks) = convert_materials(
         path,
         &doc,
         &used_materials(&doc, &placed),
@@ -89,15 +93,21 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
         options,
         &mut scene.warnings,
     )?;
+    scene.materials = materials;
     scene.lights = placed_lights(path, &doc, &placed, &mut scene.warnings)?;
     scene.import_stats.punctual_lights = scene.lights.len();
     scene.import_stats.images_decoded = images.decodes;
     scene.import_stats.texture_pixels = images.pixels;
+    scene.warnings.append(&mut images.reduced);
     let source = Source {
         path,
         doc: &doc,
         buffers: &buffers,
         limits,
+        masks: &masks,
+        mask_divisions: super::alpha_mask::budget_divisions(masked_triangles(
+            &doc, &placed, &masks,
+        )),
     };
     let mut default_material = None;
     let mut decoded = Decoded::default();
@@ -120,6 +130,12 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
             )?;
         }
     }
+    for (material, tally) in &decoded.masked {
+        let name = &scene.materials[*material as usize].name;
+        scene
+            .warnings
+            .push(mask_warning(name, &masks[*material as usize], tally));
+    }
     if scene.surfaces.is_empty() {
         return Err(Error::Geometry(format!(
             "{}: the scene has no surfaces (no usable triangles in any mesh of the scene's nodes)",
@@ -137,4 +153,20 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
     let far = scene.outlier_warning();
     scene.warnings.extend(far);
     Ok(scene)
+}
+
+/// What `alphaMode` `MASK` did to the surfaces of material `name`.
+fn mask_warning(name: &str, mask: &Option<super::alpha_mask::Mask>, t: &MaskTally) -> String {
+    let cutoff = mask.as_ref().map_or(0.5, |m| m.cutoff);
+    format!(
+        "material '{name}': alphaMode MASK (cutoff {cutoff}): the surfaces are cut where \
+         the alpha is below the cutoff, so light passes through the holes: {} triangles kept \
+         whole, {} dropped as transparent, {} cut into {} pieces (at most {} pieces in all \
+         for the file; finer detail of the alpha is not followed)",
+        t.whole,
+        t.dropped,
+        t.cut,
+        t.pieces,
+        super::alpha_mask::MAX_CUT_TRIANGLES
+    )
 }

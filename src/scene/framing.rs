@@ -1,43 +1,53 @@
 //! A default view of a scene that has no camera, framed as a person would:
-//! from inside an enclosure, looking across at its interior; from outside an
-//! object, looking at it.
+//! from inside the main lit room of an interior, looking across it; from
+//! outside an object, looking at it from three-quarters.
 //!
 //! - **What to frame.** The surfaces that do not emit, and the emitters
-//!   among them (within their bounds widened by a tenth): a sky quad or a
-//!   sun proxy far away lights the scene but does not shrink it in the frame.
-//! - **Inside or outside.** The signed solid angle that the framed surfaces'
-//!   fronts subtend at a point, over 4 pi, is the winding number of the
-//!   surface around it: 1 inside a closed room whose walls face inwards,
-//!   about 0.8 inside a box open on one side, 0 outside everything, -1 inside
-//!   a closed object. It is taken at the centre of the bounds and at six
-//!   points around it (so that a table at the centre does not hide the room
-//!   around it); above one half at any of them, the scene is an enclosure.
-//! - **Inside.** The eye looks horizontally across the enclosure from the
-//!   side with the least inward-facing area near it (the open side of a
-//!   Cornell box; the +z wall, glTF's front, when all are alike), at
-//!   mid-height. A side with (almost) no wall is an opening: the eye stands
-//!   back from it until the opening fills a 45 degree view, as the Cornell
-//!   box's own camera does. Otherwise the eye stands just inside the wall,
-//!   with a field of view that takes in the far wall.
-//! - **Outside.** From the +z side (glTF's front), a little above and to the
-//!   right, far enough back that the bounding sphere fits a 45 degree view.
+//!   near them (within ten times their size): a sky quad or a sun proxy far
+//!   away lights the scene but does not shrink it in the frame, while a
+//!   lamp whose body glows is framed whole.
+//! - **Open boxes.** A scene whose inward-facing walls enclose it (see
+//!   *small enclosures* below) but leave one side open, as a Cornell box,
+//!   is seen through that opening, from outside.
+//! - **Rooms.** Rays from a grid of points find the enclosed spaces whatever
+//!   way their walls face (double-sided walls included), and which of them
+//!   see a light ([`super::rooms`]). The largest lit room at least
+//!   [`ROOM_SIZE`](super::rooms::ROOM_SIZE) across (else the largest room)
+//!   is viewed from inside: from its most open point, the eye backs up
+//!   along the room's longest horizontal span to just short of the wall
+//!   behind, and looks across it, with a field of view that takes in the
+//!   far wall.
+//! - **Small enclosures.** Otherwise, the signed solid angle that the framed
+//!   surfaces' fronts subtend at a point, over 4 pi, is the winding number
+//!   of the surface around it: 1 inside a closed box whose walls face
+//!   inwards, about 0.8 inside a box open on one side, 0 outside
+//!   everything, -1 inside a closed object. It is taken at the centre of the
+//!   bounds and at six points around it; above one half at any of them, the
+//!   scene is an enclosure (a Cornell box), seen from its open side (standing
+//!   back until the opening fills a 45 degree view) or from just inside the
+//!   side with the least wall.
+//! - **Outside.** From three-quarters in front (glTF's +z), a little above,
+//!   far enough back that the bounding sphere of the framed surfaces (the
+//!   emitting parts among them) fits a 45 degree view.
 
+use super::rooms::{find_rooms, Room, Tracer, ROOM_SIZE, SOURCES};
 use super::{Camera, Scene, Surface};
 use glam::DVec3;
 
 /// Winding number above which a point counts as inside an enclosure.
 const INSIDE: f64 = 0.5;
 
+/// Horizontal directions tried for a room's longest span.
+const SPAN_DIRECTIONS: usize = 16;
+
 impl Camera {
-    /// A default view of `scene`, framed as a person would. Far-away
-    /// emitters (outside the non-emitting surfaces' bounds widened by a
-    /// tenth: a sky quad, a sun) are left out of the framing. When the
-    /// winding number of the surfaces around the bounds' centre, or one of
-    /// six points around it, is above one half, the scene is an enclosure:
-    /// the eye looks horizontally across it from the side with the least
-    /// inward-facing area near it (+z when all are alike), standing back
-    /// from an open side until it fills a 45 degree view, or just inside a
-    /// wall. Otherwise the view is [`Camera::framing_box`] of the bounds.
+    /// A default view of `scene`, framed as a person would (see the module
+    /// notes): inside the main lit room of an interior, looking across it;
+    /// else inside a small enclosure such as a Cornell box, from its open
+    /// side; else the framed surfaces from three-quarters in front
+    /// ([`Camera::framing_box`] of their bounds). Far-away emitters
+    /// (beyond ten times the non-emitting surfaces' size from them: a sky
+    /// quad, a sun) are left out of the framing but still light rooms.
     #[must_use]
     pub fn framing(scene: &Scene) -> Self {
         let framed = framed_surfaces(scene);
@@ -45,33 +55,126 @@ impl Camera {
         if lo.x > hi.x {
             return Camera::framing_box(DVec3::ZERO, DVec3::ONE);
         }
-        let mut camera = if is_enclosure(&framed, lo, hi) {
-            from_inside(&framed, lo, hi)
-        } else {
-            Camera::framing_box(lo, hi)
+        let enclosure = is_enclosure(&framed, lo, hi);
+        // A box open on one side (a Cornell box) is seen through its opening.
+        if let Some(mut camera) = enclosure
+            .then(|| from_inside(&framed, lo, hi, true))
+            .flatten()
+        {
+            camera.name = "framing".to_string();
+            return camera;
+        }
+        let tracer = Tracer::new(scene, &framed, lo, hi);
+        let rooms = find_rooms(&tracer, lo, hi, &light_points(scene));
+        let step = (hi - lo).max_element() / 14.0;
+        let roomy = |r: &&Room| {
+            let (a, b) = r.bounds();
+            let span = b - a + step;
+            span.x.min(span.z) >= ROOM_SIZE && span.y >= ROOM_SIZE
+        };
+        let room = rooms
+            .iter()
+            .filter(roomy)
+            .find(|r| r.lit)
+            .or_else(|| rooms.iter().find(roomy));
+        let mut camera = match room {
+            Some(room) => across_room(&tracer, room),
+            None => enclosure
+                .then(|| from_inside(&framed, lo, hi, false))
+                .flatten()
+                .unwrap_or_else(|| Camera::framing_box(lo, hi)),
         };
         camera.name = "framing".to_string();
         camera
     }
 
-    /// A default view that frames the bounds `lo..hi` from outside: from the
-    /// +Z side (glTF's front), a little above and to the right, far enough
-    /// back that the bounding sphere fits a 45 degree field of view.
+    /// A default view that frames the bounds `lo..hi` from outside: from
+    /// three-quarters in front (glTF's +Z side, to the right), a little
+    /// above, far enough back that the bounding sphere fits a 45 degree
+    /// field of view.
     #[must_use]
     pub fn framing_box(lo: DVec3, hi: DVec3) -> Self {
         let centre = (lo + hi) * 0.5;
         let radius = ((hi - lo) * 0.5).length().max(1e-9);
         let yfov = 45f64.to_radians();
         let dist = radius / (yfov * 0.5).sin();
-        let dir = DVec3::new(0.35, 0.25, 1.0).normalize();
+        let dir = DVec3::new(0.6, 0.35, 0.8).normalize();
         let mut c = Camera::look_at(centre + dir * dist, centre, DVec3::Y, 45.0);
         c.name = "framing".to_string();
         c
     }
 }
 
-/// The non-emitting surfaces, and the emitters within their bounds widened
-/// by a tenth of their size; every surface when none is left.
+/// Where a room is lit from: the punctual lights, then points just in front
+/// of the emitting surfaces, brightest first (at most [`SOURCES`] of them).
+fn light_points(scene: &Scene) -> Vec<DVec3> {
+    let mut points: Vec<DVec3> = scene.lights.iter().map(|l| l.position).collect();
+    let mut emitters: Vec<(f64, DVec3)> = scene
+        .surfaces
+        .iter()
+        .filter(|s| scene.material_of(s).is_emitter())
+        .map(|s| {
+            let power = scene.material_of(s).emission.max_band() * s.area;
+            let size = s.area.sqrt();
+            (power, s.centroid() + s.normal * (1e-3 * size))
+        })
+        .collect();
+    emitters.sort_by(|a, b| b.0.total_cmp(&a.0));
+    points.extend(emitters.into_iter().map(|(_, p)| p));
+    points.truncate(SOURCES);
+    points
+}
+
+/// The view across `room`: from its most open point, the horizontal line
+/// with the longest span between walls; the eye stands a tenth of its way
+/// back from the wall behind and looks along it, at the height of that
+/// point, with a field of view that takes in the far wall's height and the
+/// room's width (within 40 to 90 degrees).
+fn across_room(tracer: &Tracer, room: &Room) -> Camera {
+    let c = room.centre;
+    let reach = |d: DVec3| tracer.first(c, d).map_or(0.0, |m| m.t);
+    // -z first, so that alike spans keep glTF's front view.
+    let directions: Vec<DVec3> = (0..SPAN_DIRECTIONS)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / SPAN_DIRECTIONS as f64;
+            DVec3::new(a.sin(), 0.0, -a.cos())
+        })
+        .collect();
+    let reaches: Vec<f64> = directions.iter().map(|d| reach(*d)).collect();
+    let half = SPAN_DIRECTIONS / 2;
+    let mut best = 0;
+    for k in 0..SPAN_DIRECTIONS {
+        let span = |k: usize| reaches[k] + reaches[(k + half) % SPAN_DIRECTIONS];
+        let better = span(k) > span(best) * (1.0 + 1e-9)
+            || (span(k) >= span(best) * (1.0 - 1e-9) && reaches[k] > reaches[best] * (1.0 + 1e-9));
+        if better {
+            best = k;
+        }
+    }
+    let forward = directions[best];
+    let behind = reaches[(best + half) % SPAN_DIRECTIONS];
+    let eye = c - forward * (0.9 * behind);
+    let across = 0.9 * behind + reaches[best];
+    let up = reach(DVec3::Y);
+    let down = reach(DVec3::NEG_Y);
+    let side = forward.cross(DVec3::Y).normalize();
+    let width = reach(side) + reach(-side);
+    let half_height = (0.5 * (up + down)).max(0.5 * width * 0.75).max(1e-9);
+    let yfov = (2.0 * (half_height / across.max(1e-9)).atan() * 1.05)
+        .to_degrees()
+        .clamp(40.0, 90.0);
+    Camera::look_at(eye, eye + forward, DVec3::Y, yfov)
+}
+
+/// How far from the non-emitting surfaces' bounds, in their diameters, an
+/// emitter counts as far away (a sky quad, a sun proxy) and is left out of
+/// the framing.
+const FAR_EMITTER: f64 = 10.0;
+
+/// The non-emitting surfaces, and the emitters that are not far from them
+/// (within [`FAR_EMITTER`] times their bounds' diameter of those bounds: a
+/// lamp whose body glows is framed whole, a sky 1 km over a room is not);
+/// every surface when no surface is plain.
 fn framed_surfaces(scene: &Scene) -> Vec<&Surface> {
     let (plain, emitters): (Vec<&Surface>, Vec<&Surface>) = scene
         .surfaces
@@ -81,7 +184,7 @@ fn framed_surfaces(scene: &Scene) -> Vec<&Surface> {
         return emitters;
     }
     let (lo, hi) = bounds(&plain);
-    let margin = (hi - lo) * 0.1;
+    let margin = DVec3::splat(FAR_EMITTER * (hi - lo).length());
     let (lo, hi) = (lo - margin, hi + margin);
     let near = |s: &&Surface| {
         s.vertices
@@ -140,9 +243,11 @@ fn is_enclosure(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> bool {
         .any(|p| winding_number(surfaces, p) > INSIDE)
 }
 
-/// The view from just inside the side with the least inward-facing area
-/// near it, across the enclosure.
-fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> Camera {
+/// The view of an enclosure from the side with the least inward-facing
+/// area near it: from outside, when that side is open (`None` when
+/// `open_only` and it is not), else from just inside it, across the
+/// enclosure.
+fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3, open_only: bool) -> Option<Camera> {
     let size = hi - lo;
     let centre = (lo + hi) * 0.5;
     // Sides in order of preference when their walls are alike: +z first.
@@ -177,7 +282,10 @@ fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> Camera {
         // that the opening fills a 45 degree view, as the box's own camera.
         let back = half / 22.5f64.to_radians().tan();
         let eye = opening + side * back;
-        return Camera::look_at(eye, eye - side, DVec3::Y, 45.0);
+        return Some(Camera::look_at(eye, eye - side, DVec3::Y, 45.0));
+    }
+    if open_only {
+        return None;
     }
     // A closed room: just inside the wall, with a field of view that takes
     // in the far wall (within 40 to 90 degrees).
@@ -186,7 +294,7 @@ fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> Camera {
     let yfov = (2.0 * (half / across).atan() * 1.05)
         .to_degrees()
         .clamp(40.0, 90.0);
-    Camera::look_at(eye, eye - side, DVec3::Y, yfov)
+    Some(Camera::look_at(eye, eye - side, DVec3::Y, yfov))
 }
 
 #[cfg(test)]

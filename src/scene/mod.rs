@@ -12,6 +12,7 @@ mod framing;
 mod light;
 mod material;
 mod overlaps;
+mod rooms;
 mod surface;
 mod texture;
 
