@@ -13,10 +13,10 @@
 //!   way their walls face (double-sided walls included), and which of them
 //!   see a light ([`super::rooms`]). The largest lit room at least
 //!   [`ROOM_SIZE`](super::rooms::ROOM_SIZE) across (else the largest room)
-//!   is viewed from inside: from its most open point, the eye backs up
-//!   along the room's longest horizontal span to just short of the wall
-//!   behind, and looks across it, with a field of view that takes in the
-//!   far wall.
+//!   is viewed from inside, across it: of the level views from its most
+//!   open points, each backed up to just short of the wall behind, the one
+//!   whose frame shows the most directly lit surfaces
+//!   ([`super::room_view`]).
 //! - **Small enclosures.** Otherwise, the signed solid angle that the framed
 //!   surfaces' fronts subtend at a point, over 4 pi, is the winding number
 //!   of the surface around it: 1 inside a closed box whose walls face
@@ -30,15 +30,13 @@
 //!   far enough back that the bounding sphere of the framed surfaces (the
 //!   emitting parts among them) fits a 45 degree view.
 
+use super::room_view::across_room;
 use super::rooms::{find_rooms, Room, Tracer, ROOM_SIZE, SOURCES};
 use super::{Camera, Scene, Surface};
 use glam::DVec3;
 
 /// Winding number above which a point counts as inside an enclosure.
 const INSIDE: f64 = 0.5;
-
-/// Horizontal directions tried for a room's longest span.
-const SPAN_DIRECTIONS: usize = 16;
 
 impl Camera {
     /// A default view of `scene`, framed as a person would (see the module
@@ -65,7 +63,8 @@ impl Camera {
             return camera;
         }
         let tracer = Tracer::new(scene, &framed, lo, hi);
-        let rooms = find_rooms(&tracer, lo, hi, &light_points(scene));
+        let lights = light_points(scene);
+        let rooms = find_rooms(&tracer, lo, hi, &lights);
         let step = (hi - lo).max_element() / 14.0;
         let roomy = |r: &&Room| {
             let (a, b) = r.bounds();
@@ -78,7 +77,7 @@ impl Camera {
             .find(|r| r.lit)
             .or_else(|| rooms.iter().find(roomy));
         let mut camera = match room {
-            Some(room) => across_room(&tracer, room),
+            Some(room) => across_room(&tracer, room, &lights),
             None => enclosure
                 .then(|| from_inside(&framed, lo, hi, false))
                 .flatten()
@@ -123,47 +122,6 @@ fn light_points(scene: &Scene) -> Vec<DVec3> {
     points.extend(emitters.into_iter().map(|(_, p)| p));
     points.truncate(SOURCES);
     points
-}
-
-/// The view across `room`: from its most open point, the horizontal line
-/// with the longest span between walls; the eye stands a tenth of its way
-/// back from the wall behind and looks along it, at the height of that
-/// point, with a field of view that takes in the far wall's height and the
-/// room's width (within 40 to 90 degrees).
-fn across_room(tracer: &Tracer, room: &Room) -> Camera {
-    let c = room.centre;
-    let reach = |d: DVec3| tracer.first(c, d).map_or(0.0, |m| m.t);
-    // -z first, so that alike spans keep glTF's front view.
-    let directions: Vec<DVec3> = (0..SPAN_DIRECTIONS)
-        .map(|k| {
-            let a = std::f64::consts::TAU * k as f64 / SPAN_DIRECTIONS as f64;
-            DVec3::new(a.sin(), 0.0, -a.cos())
-        })
-        .collect();
-    let reaches: Vec<f64> = directions.iter().map(|d| reach(*d)).collect();
-    let half = SPAN_DIRECTIONS / 2;
-    let mut best = 0;
-    for k in 0..SPAN_DIRECTIONS {
-        let span = |k: usize| reaches[k] + reaches[(k + half) % SPAN_DIRECTIONS];
-        let better = span(k) > span(best) * (1.0 + 1e-9)
-            || (span(k) >= span(best) * (1.0 - 1e-9) && reaches[k] > reaches[best] * (1.0 + 1e-9));
-        if better {
-            best = k;
-        }
-    }
-    let forward = directions[best];
-    let behind = reaches[(best + half) % SPAN_DIRECTIONS];
-    let eye = c - forward * (0.9 * behind);
-    let across = 0.9 * behind + reaches[best];
-    let up = reach(DVec3::Y);
-    let down = reach(DVec3::NEG_Y);
-    let side = forward.cross(DVec3::Y).normalize();
-    let width = reach(side) + reach(-side);
-    let half_height = (0.5 * (up + down)).max(0.5 * width * 0.75).max(1e-9);
-    let yfov = (2.0 * (half_height / across.max(1e-9)).atan() * 1.05)
-        .to_degrees()
-        .clamp(40.0, 90.0);
-    Camera::look_at(eye, eye + forward, DVec3::Y, yfov)
 }
 
 /// How far from the non-emitting surfaces' bounds, in their diameters, an
@@ -369,7 +327,7 @@ mod tests {
     }
 
     #[test]
-    fn a_room_is_seen_from_inside_from_its_open_side_and_a_far_sky_is_left_out() {
+    fn a_room_is_seen_through_its_open_side_or_from_inside_and_a_far_sky_is_left_out() {
         let camera = Camera::framing(&room(true, true));
         // In front of the open side at z = 6, looking in towards -z, far
         // enough back that the 4 x 3 opening fills 45 degrees: half the
@@ -382,11 +340,15 @@ mod tests {
             "{:?}",
             camera.forward
         );
-        // Closed: from just inside the +z wall (the walls are alike).
+        // Closed: a room 4 m x 6 m, seen from inside, level, from outside
+        // the table (1.5..2.5 x 0..1.6 x 2.5..3.5).
         let closed = Camera::framing(&room(false, false));
         let p = closed.position;
-        assert!((p - v(2.0, 1.5, 3.0 + 0.45 * 6.0)).length() < 1e-9, "{p}");
-        assert!(closed.forward.dot(DVec3::NEG_Z) > 0.999_999);
+        let inside = p.cmpgt(v(0.0, 0.0, 0.0)).all() && p.cmplt(v(4.0, 3.0, 6.0)).all();
+        assert!(inside, "{p}");
+        let in_table = p.cmpgt(v(1.5, 0.0, 2.5)).all() && p.cmplt(v(2.5, 1.6, 3.5)).all();
+        assert!(!in_table, "{p}");
+        assert!(closed.forward.y.abs() < 1e-12, "{:?}", closed.forward);
     }
 
     #[test]

@@ -12,6 +12,7 @@ mod framing;
 mod light;
 mod material;
 mod overlaps;
+mod room_view;
 mod rooms;
 mod surface;
 mod texture;

@@ -48,6 +48,8 @@ pub(crate) struct Room {
     pub centre: DVec3,
     /// The room's grid points (free points enclosed by the scene).
     pub points: Vec<DVec3>,
+    /// For each point, the mean distance its rays travel: how open it is.
+    pub openness: Vec<f64>,
     /// Whether some point of it sees a light.
     pub lit: bool,
 }
@@ -76,6 +78,8 @@ pub(crate) struct Meeting {
     pub t: f64,
     /// True when the ray meets the back of a single-sided surface.
     pub back: bool,
+    /// The front normal of the surface met.
+    pub normal: DVec3,
 }
 
 impl Tracer {
@@ -107,6 +111,7 @@ impl Tracer {
         Some(Meeting {
             t: hit.t,
             back: !hit.front && !self.double_sided[k],
+            normal: self.geometry[k].normal,
         })
     }
 
@@ -180,11 +185,12 @@ pub(crate) fn find_rooms(tracer: &Tracer, lo: DVec3, hi: DVec3, lights: &[DVec3]
             .max_by(|&a, &b| free[a].1.total_cmp(&free[b].1).then(b.cmp(&a)));
         let Some(seed) = seed else { break };
         let centre = free[seed].0;
-        let mut points = Vec::new();
-        for (i, (p, _)) in free.iter().enumerate() {
+        let (mut points, mut openness) = (Vec::new(), Vec::new());
+        for (i, (p, open)) in free.iter().enumerate() {
             if !taken[i] && (i == seed || tracer.sees(centre, *p)) {
                 taken[i] = true;
                 points.push(*p);
+                openness.push(*open);
             }
         }
         let lit = points
@@ -193,6 +199,7 @@ pub(crate) fn find_rooms(tracer: &Tracer, lo: DVec3, hi: DVec3, lights: &[DVec3]
         rooms.push(Room {
             centre,
             points,
+            openness,
             lit,
         });
     }
