@@ -77,7 +77,7 @@ fn view_from(tracer: &Tracer, c: DVec3, forward: DVec3) -> (Camera, f64) {
     let yfov = (2.0 * (half / across.max(1e-9)).atan() * 1.05)
         .to_degrees()
         .clamp(40.0, 90.0);
-    let mut camera = Camera::look_at(eye, eye + forward, DVec3::Y, yfov);
+    let camera = Camera::look_at(eye, eye + forward, DVec3::Y, yfov);
     (camera, across)
 }
 

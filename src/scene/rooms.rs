@@ -203,6 +203,6 @@ pub(crate) fn find_rooms(tracer: &Tracer, lo: DVec3, hi: DVec3, lights: &[DVec3]
             lit,
         });
     }
-    rooms.sort_by(|a, b| b.points.len().cmp(&a.points.len()));
+    rooms.sort_by_key(|r| std::cmp::Reverse(r.points.len()));
     rooms
 }
