@@ -11,8 +11,13 @@
 //! cutoff. A triangle whose samples all pass is kept whole; one whose
 //! samples all fail is dropped.
 
+use super::document::Document;
+use super::nodes::Placed;
+use super::primitives::triangle_count;
 use crate::scene::Texture;
 use glam::{DVec2, DVec3};
+use gltf_json::mesh::Semantic;
+use gltf_json::validation::Checked;
 
 /// Most triangles the cuts of one file may make in all: the solver's cost
 /// grows with the number of surfaces, so finer cuts are traded for a bound.
@@ -162,6 +167,65 @@ fn clip(corners: &[(DVec3, DVec2, f64); 3], out: &mut Vec<Piece>) {
 pub(super) fn budget_divisions(triangles: usize) -> usize {
     let per_triangle = MAX_CUT_TRIANGLES / triangles.max(1);
     ((per_triangle as f64 / 2.0).sqrt().floor() as usize).clamp(1, MAX_DIVISIONS)
+}
+
+/// What the masks of one material did, over the whole file.
+#[derive(Debug, Default)]
+pub(super) struct MaskTally {
+    /// Triangles kept whole.
+    pub whole: usize,
+    /// Triangles dropped as transparent.
+    pub dropped: usize,
+    /// Triangles cut, and the pieces they gave.
+    pub cut: usize,
+    /// Pieces of cut triangles.
+    pub pieces: usize,
+}
+
+impl MaskTally {
+    pub(super) fn add(&mut self, other: &MaskTally) {
+        self.whole += other.whole;
+        self.dropped += other.dropped;
+        self.cut += other.cut;
+        self.pieces += other.pieces;
+    }
+}
+
+/// How many triangles of the placed meshes a textured mask may cut (each
+/// instance counted), from the accessors' counts, before any is read.
+pub(super) fn masked_triangles(doc: &Document, placed: &[Placed], masks: &[Option<Mask>]) -> usize {
+    let textured = |m: Option<usize>| {
+        m.and_then(|m| masks.get(m))
+            .and_then(Option::as_ref)
+            .is_some_and(|mask| !mask.is_uniform())
+    };
+    let mut total = 0usize;
+    for p in placed {
+        let Some(mesh) = doc.root.nodes[p.node]
+            .mesh
+            .and_then(|m| doc.root.meshes.get(m.value()))
+        else {
+            continue;
+        };
+        for prim in &mesh.primitives {
+            let (Checked::Valid(mode), true) =
+                (prim.mode, textured(prim.material.map(|m| m.value())))
+            else {
+                continue;
+            };
+            let stream = prim
+                .indices
+                .or_else(|| {
+                    prim.attributes
+                        .get(&Checked::Valid(Semantic::Positions))
+                        .copied()
+                })
+                .and_then(|a| doc.root.accessors.get(a.value()))
+                .map_or(0, |a| a.count.0 as usize);
+            total = total.saturating_add(triangle_count(mode, stream));
+        }
+    }
+    total
 }
 
 #[cfg(test)]

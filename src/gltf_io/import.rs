@@ -1,5 +1,6 @@
 //! [`load_scene`]: the import pipeline, stage by stage.
 
+use super::alpha_mask::{budget_divisions, masked_triangles, Mask, MaskTally, MAX_CUT_TRIANGLES};
 use super::buffers::load_buffers;
 use super::cameras::import_camera;
 use super::container::{read_limited, split};
@@ -7,7 +8,7 @@ use super::document::parse;
 use super::lights::placed_lights;
 use super::limits::ImportLimits;
 use super::materials::{convert_materials, used_materials};
-use super::meshes::{add_mesh_instance, masked_triangles, Decoded, MaskTally, Source};
+use super::meshes::{add_mesh_instance, Decoded, Source};
 use super::nodes::walk;
 use super::options::LoadOptions;
 use super::textures::Images;
@@ -41,8 +42,18 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
 ///   for the conversion); primitives without one get a default grey (0.8) appended
 ///   last. A `doubleSided` material's surfaces are added twice, back to back.
 ///   Textures are decoded only for materials some triangle primitive uses, each
-///   image once however many textures show it, and at most
-///   [`ImportLimits::max_texture_pixels`] pixels over the whole file.
+///   image once however many textures show it, and keep at most
+///   [`ImportLimits::max_texture_pixels`] texels over the whole file (an image
+///   over what is left is reduced to fit, with a warning). `alphaMode` `MASK`
+///   cuts the triangles where the alpha is below the cutoff; `BLEND` is
+///   opaque, with a warning.
+/// - Extensions are read whether the file uses or requires them: Draco and
+///   meshopt geometry, mesh quantization, texture transforms, KTX2 and WebP
+///   images, emission strength and lights in full; one warning per
+///   extension honoured only in part (specular, transmission, sheen, ...:
+///   the diffuse part is kept); an [`Error::Gltf`] for a required one whose
+///   absence would make the result wrong (an unknown one,
+///   `EXT_mesh_gpu_instancing`).
 /// - Perspective cameras are imported; orthographic ones are skipped with a warning.
 /// - Repairs, each with a warning: reflectance bands above
 ///   [`LoadOptions::max_reflectance`] are clamped to it; with
@@ -105,9 +116,7 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
         buffers: &buffers,
         limits,
         masks: &masks,
-        mask_divisions: super::alpha_mask::budget_divisions(masked_triangles(
-            &doc, &placed, &masks,
-        )),
+        mask_divisions: budget_divisions(masked_triangles(&doc, &placed, &masks)),
     };
     let mut default_material = None;
     let mut decoded = Decoded::default();
@@ -156,17 +165,13 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
 }
 
 /// What `alphaMode` `MASK` did to the surfaces of material `name`.
-fn mask_warning(name: &str, mask: &Option<super::alpha_mask::Mask>, t: &MaskTally) -> String {
+fn mask_warning(name: &str, mask: &Option<Mask>, t: &MaskTally) -> String {
     let cutoff = mask.as_ref().map_or(0.5, |m| m.cutoff);
     format!(
         "material '{name}': alphaMode MASK (cutoff {cutoff}): the surfaces are cut where \
          the alpha is below the cutoff, so light passes through the holes: {} triangles kept \
          whole, {} dropped as transparent, {} cut into {} pieces (at most {} pieces in all \
          for the file; finer detail of the alpha is not followed)",
-        t.whole,
-        t.dropped,
-        t.cut,
-        t.pieces,
-        super::alpha_mask::MAX_CUT_TRIANGLES
+        t.whole, t.dropped, t.cut, t.pieces, MAX_CUT_TRIANGLES
     )
 }

@@ -3,7 +3,7 @@
 //! degenerate triangles dropped, coplanar pairs merged into quads.
 
 use super::accessors::{read_indices, read_positions, read_texcoords};
-use super::alpha_mask::{Cut, Mask};
+use super::alpha_mask::{Cut, Mask, MaskTally};
 use super::document::Document;
 use super::limits::ImportLimits;
 use super::materials::default_material;
@@ -41,28 +41,6 @@ pub(super) struct Source<'a> {
     pub masks: &'a [Option<Mask>],
     /// The lattice division each masked triangle may be cut at most.
     pub mask_divisions: usize,
-}
-
-/// What the masks of one material did, over the whole file.
-#[derive(Debug, Default)]
-pub(super) struct MaskTally {
-    /// Triangles kept whole.
-    pub whole: usize,
-    /// Triangles dropped as transparent.
-    pub dropped: usize,
-    /// Triangles cut, and the pieces they gave.
-    pub cut: usize,
-    /// Pieces of cut triangles.
-    pub pieces: usize,
-}
-
-impl MaskTally {
-    fn add(&mut self, other: &MaskTally) {
-        self.whole += other.whole;
-        self.dropped += other.dropped;
-        self.cut += other.cut;
-        self.pieces += other.pieces;
-    }
 }
 
 /// Accessors already decoded, by index, so that a mesh placed by many nodes or an
@@ -453,41 +431,4 @@ fn vertex_keys(positions: &[DVec3], indexed: bool) -> Vec<u32> {
                 .or_insert(next)
         })
         .collect()
-}
-
-/// How many triangles of the placed meshes a textured mask may cut (each
-/// instance counted), from the accessors' counts, before any is read.
-pub(super) fn masked_triangles(doc: &Document, placed: &[Placed], masks: &[Option<Mask>]) -> usize {
-    let textured = |m: Option<usize>| {
-        m.and_then(|m| masks.get(m))
-            .and_then(Option::as_ref)
-            .is_some_and(|mask| !mask.is_uniform())
-    };
-    let mut total = 0usize;
-    for p in placed {
-        let Some(mesh) = doc.root.nodes[p.node]
-            .mesh
-            .and_then(|m| doc.root.meshes.get(m.value()))
-        else {
-            continue;
-        };
-        for prim in &mesh.primitives {
-            let (Checked::Valid(mode), true) =
-                (prim.mode, textured(prim.material.map(|m| m.value())))
-            else {
-                continue;
-            };
-            let stream = prim
-                .indices
-                .or_else(|| {
-                    prim.attributes
-                        .get(&Checked::Valid(Semantic::Positions))
-                        .copied()
-                })
-                .and_then(|a| doc.root.accessors.get(a.value()))
-                .map_or(0, |a| a.count.0 as usize);
-            total = total.saturating_add(triangle_count(mode, stream));
-        }
-    }
-    total
 }

@@ -27,7 +27,7 @@
 //!   back until the opening fills a 45 degree view) or from just inside the
 //!   side with the least wall.
 //! - **Outside.** From three-quarters in front (glTF's +z), a little above,
-//!   far enough back that the bounding sphere of the framed surfaces (the
+//!   far enough back that the bounding box of the framed surfaces (the
 //!   emitting parts among them) fits a 45 degree view.
 
 use super::room_view::across_room;
@@ -89,15 +89,27 @@ impl Camera {
 
     /// A default view that frames the bounds `lo..hi` from outside: from
     /// three-quarters in front (glTF's +Z side, to the right), a little
-    /// above, far enough back that the bounding sphere fits a 45 degree
-    /// field of view.
+    /// above, looking at their centre with a 45 degree field of view, just
+    /// far enough back that every corner of the box falls within the middle
+    /// 90% of a square frame (a wider frame only adds margin at the sides).
     #[must_use]
     pub fn framing_box(lo: DVec3, hi: DVec3) -> Self {
         let centre = (lo + hi) * 0.5;
-        let radius = ((hi - lo) * 0.5).length().max(1e-9);
-        let yfov = 45f64.to_radians();
-        let dist = radius / (yfov * 0.5).sin();
         let dir = DVec3::new(0.6, 0.35, 0.8).normalize();
+        let probe = Camera::look_at(centre + dir, centre, DVec3::Y, 45.0);
+        let (right, up) = (probe.right(), probe.up);
+        let tan = 22.5f64.to_radians().tan() * 0.9;
+        let mut dist: f64 = 1e-9;
+        for k in 0..8 {
+            let corner = DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let r = corner - centre;
+            let off_axis = r.dot(right).abs().max(r.dot(up).abs());
+            dist = dist.max(r.dot(dir) + off_axis / tan);
+        }
         let mut c = Camera::look_at(centre + dir * dist, centre, DVec3::Y, 45.0);
         c.name = "framing".to_string();
         c
