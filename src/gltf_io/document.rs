@@ -44,7 +44,7 @@ pub(super) fn parse(path: &Path, json: &[u8], warnings: &mut Vec<String>) -> Res
             format!("glTF version '{version}' is not supported (only 2.x)"),
         ));
     }
-    super::extensions::check(&raw, warnings).map_err(|why| gltf_error(path, why))?;
+    super::extensions::check_required(&raw).map_err(|why| gltf_error(path, why))?;
     check_attribute_indices(path, &root)?;
     validate(path, &root, &raw, warnings)?;
     Ok(Document { root, raw })

@@ -4,10 +4,11 @@
 //! compression, texture containers, texture transforms, emission strength,
 //! lights) and only the diffuse part of others (specular, transmission,
 //! sheen, clearcoat: the rest of the light transport is not simulated). The
-//! table [`support`] says which; [`check`] refuses a file only when it
-//! requires an extension whose absence would make the result wrong (an
-//! unknown one, or instancing), and warns once per extension otherwise,
-//! saying what is kept.
+//! table [`support`] says which; [`check_required`] refuses a file only when
+//! it requires an extension whose absence would make the result wrong (an
+//! unknown one, or instancing), and [`warn_used`] warns once per extension
+//! otherwise, saying what is kept (for scenes; a baked file read back uses
+//! `KHR_materials_unlit` on purpose).
 
 use serde_json::Value;
 use std::collections::BTreeSet;
@@ -127,12 +128,10 @@ fn collect_extension_keys(value: &Value, out: &mut BTreeSet<String>) {
     }
 }
 
-/// Checks the extensions of the document `raw`: `Err` with the reason when it requires one
-/// the importer cannot do without (unknown, or [`Support::Refused`]); else
-/// one warning per extension that is not honoured in full, saying what is
-/// kept.
-pub(super) fn check(raw: &Value, warnings: &mut Vec<String>) -> Result<(), String> {
-    let (required, used) = listed(raw);
+/// `Err` with the reason when the document `raw` requires an extension the
+/// importer cannot do without (an unknown one, or [`Support::Refused`]).
+pub(super) fn check_required(raw: &Value) -> Result<(), String> {
+    let (required, _) = listed(raw);
     let mut refused = Vec::new();
     for name in &required {
         match support(name) {
@@ -145,9 +144,17 @@ pub(super) fn check(raw: &Value, warnings: &mut Vec<String>) -> Result<(), Strin
             Some(_) => {}
         }
     }
-    if !refused.is_empty() {
-        return Err(refused.join("; "));
+    if refused.is_empty() {
+        Ok(())
+    } else {
+        Err(refused.join("; "))
     }
+}
+
+/// One warning per extension the document `raw` uses or requires that is
+/// not honoured in full, saying what is kept.
+pub(super) fn warn_used(raw: &Value, warnings: &mut Vec<String>) {
+    let (_, used) = listed(raw);
     for name in &used {
         match support(name) {
             Some(Support::Honoured) => {}
@@ -157,7 +164,6 @@ pub(super) fn check(raw: &Value, warnings: &mut Vec<String>) -> Result<(), Strin
             None => warnings.push(format!("extension {name} is not known here and is ignored")),
         }
     }
-    Ok(())
 }
 
 #[cfg(test)]

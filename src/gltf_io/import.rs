@@ -89,6 +89,7 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
     };
     #[allow(unused_mut)] // Draco decoding rewrites accessors.
     let mut doc = parse(path, &container.json, &mut scene.warnings)?;
+    super::extensions::warn_used(&doc.raw, &mut scene.warnings);
     let mut buffers = load_buffers(path, &doc, container.bin, limits)?;
     super::meshopt::decompress_views(&doc, &mut buffers).map_err(|m| super::gltf_error(path, m))?;
     #[cfg(feature = "draco")]
