@@ -4,7 +4,7 @@
 use super::args::SolveSettingsArgs;
 use super::checks::thread_pool;
 use super::progress_bar::Bars;
-use super::solve_cmd::{check_gltf_name, load, load_options, settings};
+use super::solve_cmd::{check_gltf_name, load_options, load_within, settings};
 use anyhow::{Context, Result};
 use clap::Args;
 use radiosity::gltf_io::{write_baked, BakeColour};
@@ -48,7 +48,11 @@ pub fn run(a: &BakeArgs) -> Result<()> {
     check_target(&a.output)?;
     let settings = settings(&a.settings)?;
     pool.install(|| {
-        let scene = load(&a.scene, &load_options(&a.settings.load)?)?;
+        let scene = load_within(
+            &a.scene,
+            &load_options(&a.settings.load)?,
+            settings.max_memory,
+        )?;
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }

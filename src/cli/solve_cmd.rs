@@ -37,11 +37,19 @@ pub fn load_options(a: &LoadArgs) -> Result<LoadOptions> {
 /// Loads a scene from a file, or a built-in scene by name, repaired as
 /// `options` say (a built-in scene is made double-sided and checked for
 /// overlaps; its reflectances are its own), and checks that something in it
-/// gives light: every check that needs the scene but not its solve.
+/// gives light: every check that needs the scene but not its solve. Textures
+/// are kept within the machine's default memory budget; [`load_within`]
+/// takes the budget of `--max-memory`.
 pub fn load(scene: &str, options: &LoadOptions) -> Result<Scene> {
+    load_within(scene, options, super::peak_memory::default_max_memory())
+}
+
+/// [`load`], with the textures kept within `max_memory` bytes
+/// ([`ImportLimits::for_memory`]).
+pub fn load_within(scene: &str, options: &LoadOptions, max_memory: u64) -> Result<Scene> {
     let path = Path::new(scene);
     let scene = if path.exists() {
-        gltf_io::load_scene_with(path, &ImportLimits::default(), options)?
+        gltf_io::load_scene_with(path, &ImportLimits::for_memory(max_memory), options)?
     } else {
         let Some(mut s) = scenes::by_name(scene) else {
             bail!(
@@ -251,7 +259,7 @@ fn run_in_pool(
     threads: usize,
 ) -> Result<()> {
     let t = Instant::now();
-    let scene = load(&a.scene, options)?;
+    let scene = load_within(&a.scene, options, settings.max_memory)?;
     let load_seconds = t.elapsed().as_secs_f64();
     for w in &scene.warnings {
         eprintln!("warning: {w}");

@@ -44,8 +44,9 @@ pub(super) fn parse(path: &Path, json: &[u8], warnings: &mut Vec<String>) -> Res
             format!("glTF version '{version}' is not supported (only 2.x)"),
         ));
     }
+    super::extensions::check_required(&raw).map_err(|why| gltf_error(path, why))?;
     check_attribute_indices(path, &root)?;
-    validate(path, &root, warnings)?;
+    validate(path, &root, &raw, warnings)?;
     Ok(Document { root, raw })
 }
 
@@ -73,7 +74,7 @@ fn check_attribute_indices(path: &Path, root: &Root) -> Result<()> {
     Ok(())
 }
 
-fn validate(path: &Path, root: &Root, warnings: &mut Vec<String>) -> Result<()> {
+fn validate(path: &Path, root: &Root, raw: &Value, warnings: &mut Vec<String>) -> Result<()> {
     let mut problems: Vec<(String, ValidationError)> = Vec::new();
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         root.validate(
@@ -92,20 +93,15 @@ fn validate(path: &Path, root: &Root, warnings: &mut Vec<String>) -> Result<()> 
     }
     let mut fatal = Vec::new();
     for (where_, e) in problems {
-        if e == ValidationError::Unsupported {
-            match required_extension(root, &where_) {
-                Some(name) if HANDLED_EXTENSIONS.contains(&name) => continue,
-                Some("KHR_draco_mesh_compression") => {
-                    fatal.push(format!(
-                        "{where_} = \"KHR_draco_mesh_compression\": Draco-compressed meshes \
-                         cannot be read here; decompress the file first, for example with \
-                         glTF-Transform: `npx @gltf-transform/cli copy in.glb out.glb` \
-                         writes it without Draco"
-                    ));
-                    continue;
-                }
-                _ => {}
-            }
+        // Required extensions were checked against the importer's own table
+        // (`extensions::check`); gltf-json knows only a few of them.
+        if e == ValidationError::Unsupported && where_.starts_with("extensionsRequired[") {
+            continue;
+        }
+        // A texture whose image comes through an extension (KTX2, WebP) may
+        // leave the core `source` out.
+        if e == ValidationError::Missing && extension_source(raw, &where_) {
+            continue;
         }
         // POSITION min/max are required by the specification but this importer does
         // not need them, so their absence is only reported. gltf-json spells the
@@ -146,20 +142,24 @@ fn validate(path: &Path, root: &Root, warnings: &mut Vec<String>) -> Result<()> 
     Err(gltf_error(path, message))
 }
 
-/// Extensions a file may require that the importer handles (gltf-json does
-/// not know them and reports them as unsupported).
-const HANDLED_EXTENSIONS: [&str; 3] = [
-    "KHR_mesh_quantization",
-    super::meshopt::EXTENSION,
-    super::lights::EXTENSION,
-];
-
-/// The extension named at `extensionsRequired[i]`, when `where_` is that
-/// path (gltf-json spells it `extensionsRequired[i] = "NAME"`).
-fn required_extension<'a>(root: &'a Root, where_: &str) -> Option<&'a str> {
-    let rest = where_.strip_prefix("extensionsRequired[")?;
-    let index: usize = rest[..rest.find(']')?].parse().ok()?;
-    root.extensions_required.get(index).map(String::as_str)
+/// True when `where_` is `textures[i].source` and texture `i` names its
+/// image through an extension.
+fn extension_source(raw: &Value, where_: &str) -> bool {
+    let Some(rest) = where_.strip_prefix("textures[") else {
+        return false;
+    };
+    let Some(index) = rest
+        .strip_suffix("].source")
+        .and_then(|i| i.parse::<usize>().ok())
+    else {
+        return false;
+    };
+    raw.pointer(&format!("/textures/{index}/extensions"))
+        .and_then(Value::as_object)
+        .is_some_and(|e| {
+            e.values()
+                .any(|v| v.get("source").is_some_and(Value::is_u64))
+        })
 }
 
 fn problem_words(e: ValidationError) -> &'static str {

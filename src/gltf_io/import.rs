@@ -1,5 +1,6 @@
 //! [`load_scene`]: the import pipeline, stage by stage.
 
+use super::alpha_mask::{budget_divisions, masked_triangles, Mask, MaskTally, MAX_CUT_TRIANGLES};
 use super::buffers::load_buffers;
 use super::cameras::import_camera;
 use super::container::{read_limited, split};
@@ -41,8 +42,18 @@ pub fn load_scene(path: &Path, limits: &ImportLimits) -> Result<Scene> {
 ///   for the conversion); primitives without one get a default grey (0.8) appended
 ///   last. A `doubleSided` material's surfaces are added twice, back to back.
 ///   Textures are decoded only for materials some triangle primitive uses, each
-///   image once however many textures show it, and at most
-///   [`ImportLimits::max_texture_pixels`] pixels over the whole file.
+///   image once however many textures show it, and keep at most
+///   [`ImportLimits::max_texture_pixels`] texels over the whole file (an image
+///   over what is left is reduced to fit, with a warning). `alphaMode` `MASK`
+///   cuts the triangles where the alpha is below the cutoff; `BLEND` is
+///   opaque, with a warning.
+/// - Extensions are read whether the file uses or requires them: Draco and
+///   meshopt geometry, mesh quantization, texture transforms, KTX2 and WebP
+///   images, emission strength and lights in full; one warning per
+///   extension honoured only in part (specular, transmission, sheen, ...:
+///   the diffuse part is kept); an [`Error::Gltf`] for a required one whose
+///   absence would make the result wrong (an unknown one,
+///   `EXT_mesh_gpu_instancing`).
 /// - Perspective cameras are imported; orthographic ones are skipped with a warning.
 /// - Repairs, each with a warning: reflectance bands above
 ///   [`LoadOptions::max_reflectance`] are clamped to it; with
@@ -76,12 +87,17 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
             .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned()),
         ..Scene::default()
     };
-    let doc = parse(path, &container.json, &mut scene.warnings)?;
+    #[allow(unused_mut)] // Draco decoding rewrites accessors.
+    let mut doc = parse(path, &container.json, &mut scene.warnings)?;
+    super::extensions::warn_used(&doc.raw, &mut scene.warnings);
     let mut buffers = load_buffers(path, &doc, container.bin, limits)?;
     super::meshopt::decompress_views(&doc, &mut buffers).map_err(|m| super::gltf_error(path, m))?;
+    #[cfg(feature = "draco")]
+    super::draco::decompress_primitives(&mut doc, &mut buffers, limits)
+        .map_err(|m| super::gltf_error(path, m))?;
     let placed = walk(path, &doc, limits)?;
     let mut images = Images::new(&doc, &buffers, path, limits);
-    scene.materials = convert_materials(
+    let (materials, masks) = convert_materials(
         path,
         &doc,
         &used_materials(&doc, &placed),
@@ -89,15 +105,19 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
         options,
         &mut scene.warnings,
     )?;
+    scene.materials = materials;
     scene.lights = placed_lights(path, &doc, &placed, &mut scene.warnings)?;
     scene.import_stats.punctual_lights = scene.lights.len();
     scene.import_stats.images_decoded = images.decodes;
     scene.import_stats.texture_pixels = images.pixels;
+    scene.warnings.append(&mut images.reduced);
     let source = Source {
         path,
         doc: &doc,
         buffers: &buffers,
         limits,
+        masks: &masks,
+        mask_divisions: budget_divisions(masked_triangles(&doc, &placed, &masks)),
     };
     let mut default_material = None;
     let mut decoded = Decoded::default();
@@ -120,6 +140,12 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
             )?;
         }
     }
+    for (material, tally) in &decoded.masked {
+        let name = &scene.materials[*material as usize].name;
+        scene
+            .warnings
+            .push(mask_warning(name, &masks[*material as usize], tally));
+    }
     if scene.surfaces.is_empty() {
         return Err(Error::Geometry(format!(
             "{}: the scene has no surfaces (no usable triangles in any mesh of the scene's nodes)",
@@ -138,4 +164,16 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
     scene.warnings.extend(far);
     options.add_daylight(&mut scene);
     Ok(scene)
+}
+
+/// What `alphaMode` `MASK` did to the surfaces of material `name`.
+fn mask_warning(name: &str, mask: &Option<Mask>, t: &MaskTally) -> String {
+    let cutoff = mask.as_ref().map_or(0.5, |m| m.cutoff);
+    format!(
+        "material '{name}': alphaMode MASK (cutoff {cutoff}): the surfaces are cut where \
+         the alpha is below the cutoff, so light passes through the holes: {} triangles kept \
+         whole, {} dropped as transparent, {} cut into {} pieces (at most {} pieces in all \
+         for the file; finer detail of the alpha is not followed)",
+        t.whole, t.dropped, t.cut, t.pieces, MAX_CUT_TRIANGLES
+    )
 }

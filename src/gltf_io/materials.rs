@@ -6,6 +6,7 @@
 //! each element's footprint). Textures are decoded only for materials that some
 //! triangle primitive of the imported scene uses.
 
+use super::alpha_mask::Mask;
 use super::document::Document;
 use super::gltf_error;
 use super::nodes::Placed;
@@ -50,6 +51,9 @@ pub(super) fn used_materials(doc: &Document, placed: &[Placed]) -> Vec<bool> {
 /// `options.double_sided` every material is double-sided. Negative or
 /// non-finite values are an error naming the material and the file. The textures of material `i` are decoded (through `images`, once per
 /// image) only when `used[i]`: an unused material keeps its factors alone.
+/// The second list holds, for each material whose `alphaMode` is `MASK`,
+/// what its surfaces are cut by ([`Mask`]); `BLEND` materials are kept
+/// opaque, with one warning naming them.
 pub(super) fn convert_materials(
     path: &Path,
     doc: &Document,
@@ -57,8 +61,10 @@ pub(super) fn convert_materials(
     images: &mut Images,
     options: &LoadOptions,
     warnings: &mut Vec<String>,
-) -> Result<Vec<Material>> {
+) -> Result<(Vec<Material>, Vec<Option<Mask>>)> {
     let mut out = Vec::with_capacity(doc.root.materials.len());
+    let mut masks = Vec::with_capacity(doc.root.materials.len());
+    let mut blended: Vec<String> = Vec::new();
     let mut clamped: Vec<String> = Vec::new();
     for (i, m) in doc.root.materials.iter().enumerate() {
         let name = match m.name.as_deref() {
@@ -76,9 +82,38 @@ pub(super) fn convert_materials(
         let in_use = used.get(i).copied().unwrap_or(false);
         let base_texture = m.pbr_metallic_roughness.base_color_texture.as_ref();
         let mut texture = None;
+        let mode = doc
+            .raw
+            .pointer(&format!("{base}/alphaMode"))
+            .and_then(|v| v.as_str());
+        let mut mask = (mode == Some("MASK")).then(|| Mask {
+            cutoff: number(&doc.raw, &format!("{base}/alphaCutoff")).unwrap_or(0.5),
+            alpha: None,
+            factor_alpha: rgba[3],
+        });
+        if mode == Some("BLEND") && in_use {
+            blended.push(format!("'{name}' (alpha {:.3})", rgba[3]));
+        }
         if let Some(info) = base_texture.filter(|_| in_use) {
-            match images.for_texture(info.index.value()) {
-                Ok(image) => {
+            match images.with_alpha(info.index.value()) {
+                Ok((image, alpha)) => {
+                    if let (Some(m), Some(alpha)) = (&mut mask, alpha) {
+                        let pointer = format!("{base}/pbrMetallicRoughness/baseColorTexture");
+                        let grey = alpha.values.iter().map(|a| [f32::from(*a) / 255.0; 3]).collect();
+                        let grey = Arc::new(super::textures::LinearImage {
+                            width: alpha.width,
+                            height: alpha.height,
+                            texels: grey,
+                        });
+                        m.alpha = Some(texture_use(
+                            doc,
+                            &pointer,
+                            info,
+                            grey,
+                            Rgb::splat(rgba[3]),
+                            f64::INFINITY,
+                        ));
+                    }
                     reflectance = reflectance * image.mean();
                     let pointer = format!("{base}/pbrMetallicRoughness/baseColorTexture");
                     texture = Some(texture_use(
@@ -152,6 +187,15 @@ pub(super) fn convert_materials(
         material.base_texture = texture.map(Arc::new);
         material.emissive_texture = emissive_texture.map(Arc::new);
         out.push(material);
+        masks.push(mask.filter(|_| in_use));
+    }
+    if !blended.is_empty() {
+        warnings.push(format!(
+            "alphaMode BLEND is not simulated: {} materials are opaque with their diffuse \
+             base colour: {}",
+            blended.len(),
+            blended.join(", ")
+        ));
     }
     if !clamped.is_empty() {
         warnings.push(format!(
@@ -162,7 +206,7 @@ pub(super) fn convert_materials(
             clamped.join(", ")
         ));
     }
-    Ok(out)
+    Ok((out, masks))
 }
 
 /// The metallic part of material `i` (`metallicFactor`, glTF's default 1,

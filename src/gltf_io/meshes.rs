@@ -3,6 +3,7 @@
 //! degenerate triangles dropped, coplanar pairs merged into quads.
 
 use super::accessors::{read_indices, read_positions, read_texcoords};
+use super::alpha_mask::{Cut, Mask, MaskTally};
 use super::document::Document;
 use super::limits::ImportLimits;
 use super::materials::default_material;
@@ -36,6 +37,10 @@ pub(super) struct Source<'a> {
     pub buffers: &'a [Vec<u8>],
     /// The import limits.
     pub limits: &'a ImportLimits,
+    /// What each material's `alphaMode` `MASK` cuts by (by material index).
+    pub masks: &'a [Option<Mask>],
+    /// The lattice division each masked triangle may be cut at most.
+    pub mask_divisions: usize,
 }
 
 /// Accessors already decoded, by index, so that a mesh placed by many nodes or an
@@ -45,6 +50,8 @@ pub(super) struct Source<'a> {
 pub(super) struct Decoded {
     positions: HashMap<usize, Rc<Vec<DVec3>>>,
     indices: HashMap<usize, Rc<Vec<u32>>>,
+    /// What the masks did, by material index.
+    pub masked: std::collections::BTreeMap<u32, MaskTally>,
 }
 
 impl Decoded {
@@ -174,18 +181,49 @@ pub(super) fn add_mesh_instance(
         // A textured primitive keeps its triangles: texture coordinates are
         // affine over a triangle, and a merged quad's bilinear map would bend
         // them.
+        let mask = src.masks.get(material as usize).and_then(Option::as_ref);
         let (polygons, uv_of): (Vec<Polygon>, Vec<SmallVec<[DVec2; 4]>>) = match &uvs {
-            Some(uv) => kept
-                .iter()
-                .zip(&corners)
-                .map(|(t, c)| {
-                    (
-                        t.points.iter().copied().collect(),
-                        c.iter().map(|&i| uv[i]).collect(),
-                    )
-                })
-                .unzip(),
+            Some(uv) => {
+                let mut polygons = Vec::with_capacity(kept.len());
+                let mut uv_of = Vec::with_capacity(kept.len());
+                let mut tally = MaskTally::default();
+                for (t, c) in kept.iter().zip(&corners) {
+                    let tuv = c.map(|i| uv[i]);
+                    let cut = match mask {
+                        Some(m) => m.cut(&t.points, &tuv, src.mask_divisions),
+                        None => Cut::Whole,
+                    };
+                    match cut {
+                        Cut::Whole => {
+                            tally.whole += 1;
+                            polygons.push(t.points.iter().copied().collect());
+                            uv_of.push(tuv.iter().copied().collect());
+                        }
+                        Cut::Dropped => tally.dropped += 1,
+                        Cut::Pieces(pieces) => {
+                            tally.cut += 1;
+                            tally.pieces += pieces.len();
+                            for (p, q) in &pieces {
+                                polygons.push(p.iter().copied().collect());
+                                uv_of.push(q.iter().copied().collect());
+                            }
+                        }
+                    }
+                }
+                if mask.is_some() {
+                    decoded.masked.entry(material).or_default().add(&tally);
+                }
+                (polygons, uv_of)
+            }
             None => {
+                let kept = match mask {
+                    // Without coordinates only the factor's alpha can decide.
+                    Some(m) if m.is_uniform() && !m.uniform_passes() => {
+                        decoded.masked.entry(material).or_default().dropped += kept.len();
+                        Vec::new()
+                    }
+                    _ => kept,
+                };
                 let (polygons, merged) = merge_into_quads(&kept);
                 scene.import_stats.merged_quads += merged;
                 let n = polygons.len();

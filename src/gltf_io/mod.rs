@@ -23,6 +23,7 @@
 //! [`Light`](crate::scene::Light) for the units).
 
 mod accessors;
+mod alpha_mask;
 mod bake;
 mod bake_colour;
 mod bake_texture;
@@ -31,8 +32,12 @@ mod buffers;
 mod cameras;
 mod container;
 mod document;
+#[cfg(feature = "draco")]
+mod draco;
 mod export;
 mod export_geometry;
+mod extensions;
+mod image_decode;
 mod import;
 mod lights;
 mod limits;

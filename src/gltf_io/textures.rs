@@ -3,14 +3,19 @@
 //! [`Images`] is the cache: the first texture that asks for an image decodes it
 //! into a [`LinearImage`] (linear RGB, `f32`), every later texture showing the
 //! same image gets the same decoded pixels, and an image that could not be used
-//! is not tried again. The pixels decoded from one file are bounded by
+//! is not tried again. The pixels kept from one file are bounded by
 //! [`ImportLimits::max_texture_pixels`] in total, not per image, so that a small
-//! file cannot have one large image (or many) decoded over and over. Only
-//! images the `image` crate was built to read (PNG here) are decoded.
+//! file cannot have one large image (or many) decoded over and over: an image
+//! that would exceed what is left is reduced to fit (with a warning), not
+//! dropped. PNG, JPEG, WebP (`EXT_texture_webp`) and KTX2 / Basis Universal
+//! (`KHR_texture_basisu`, with the `ktx2` feature) images are decoded; a
+//! texture whose image is in none of these is left out with a warning naming
+//! it, and its material keeps its factor.
 
 use super::accessors::view_bytes;
 use super::container::read_limited;
 use super::document::Document;
+use super::image_decode::{decode, dimensions};
 use super::limits::ImportLimits;
 use super::uri::{resolve, Resolved};
 use super::{describe, gltf_error};
@@ -18,8 +23,6 @@ use crate::error::Error;
 use crate::input::is_not_regular;
 use crate::math::Rgb;
 use std::collections::HashMap;
-use std::io::Cursor;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -70,9 +73,25 @@ pub(super) enum Unusable {
 /// The outcome of decoding one image, kept so that it is never decoded twice.
 #[derive(Clone, Debug)]
 enum Outcome {
-    Decoded(Arc<LinearImage>),
+    Decoded(Arc<LinearImage>, Option<Arc<Alpha>>),
     Ignored(String),
 }
+
+/// The alpha channel of a decoded image, texel for texel with its
+/// [`LinearImage`]: 0 (transparent) to 255 (opaque).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Alpha {
+    /// Texels across.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+    /// Row-major, top row first.
+    pub values: Vec<u8>,
+}
+
+/// How many times the pixels the file may keep an image may hold at full
+/// size, to be decoded and reduced: bounds the decoder's memory.
+const DECODE_HEADROOM: u64 = 16;
 
 /// The images of one file, decoded on first use.
 pub(super) struct Images<'a> {
@@ -87,6 +106,8 @@ pub(super) struct Images<'a> {
     pub decodes: usize,
     /// Pixels charged against the file's budget so far.
     pub pixels: u64,
+    /// Warnings for images reduced to fit the budget, in decoding order.
+    pub reduced: Vec<String>,
 }
 
 impl<'a> Images<'a> {
@@ -106,23 +127,29 @@ impl<'a> Images<'a> {
             by_image: HashMap::new(),
             decodes: 0,
             pixels: 0,
+            reduced: Vec::new(),
         }
     }
 
     /// The decoded image that texture `index` shows.
     pub(super) fn for_texture(&mut self, index: usize) -> Result<Arc<LinearImage>, Unusable> {
-        let texture = self
-            .doc
-            .root
-            .textures
-            .get(index)
-            .ok_or_else(|| Unusable::Ignored(format!("texture {index} does not exist")))?;
-        let image = texture.source.value();
+        self.with_alpha(index).map(|(image, _)| image)
+    }
+
+    /// The decoded image that texture `index` shows, and its alpha channel
+    /// when it has one.
+    pub(super) fn with_alpha(
+        &mut self,
+        index: usize,
+    ) -> Result<(Arc<LinearImage>, Option<Arc<Alpha>>), Unusable> {
+        let image = self.source_of(index).map_err(Unusable::Ignored)?;
         let outcome = match self.by_image.get(&image) {
             Some(known) => known.clone(),
             None => {
                 let fresh = match self.decode(image) {
-                    Ok(decoded) => Outcome::Decoded(Arc::new(decoded)),
+                    Ok((decoded, alpha)) => {
+                        Outcome::Decoded(Arc::new(decoded), alpha.map(Arc::new))
+                    }
                     Err(Unusable::Ignored(why)) => Outcome::Ignored(why),
                     Err(refused) => return Err(refused),
                 };
@@ -131,13 +158,54 @@ impl<'a> Images<'a> {
             }
         };
         match outcome {
-            Outcome::Decoded(decoded) => Ok(decoded),
+            Outcome::Decoded(decoded, alpha) => Ok((decoded, alpha)),
             Outcome::Ignored(why) => Err(Unusable::Ignored(why)),
         }
     }
 
-    /// Reads and decodes image `index`, charging its pixels to the budget.
-    fn decode(&mut self, index: usize) -> Result<LinearImage, Unusable> {
+    /// The image texture `index` shows: a KTX2 image of `KHR_texture_basisu`
+    /// (when this build decodes KTX2), a WebP image of `EXT_texture_webp`,
+    /// else the core `source` (a fallback PNG or JPEG, when the file has one).
+    fn source_of(&self, index: usize) -> Result<usize, String> {
+        let texture = self
+            .doc
+            .root
+            .textures
+            .get(index)
+            .ok_or_else(|| format!("texture {index} does not exist"))?;
+        let extension_source = |name: &str| {
+            self.doc
+                .raw
+                .pointer(&format!("/textures/{index}/extensions/{name}/source"))
+                .and_then(serde_json::Value::as_u64)
+                .map(|s| s as usize)
+        };
+        let basisu = extension_source("KHR_texture_basisu");
+        let preferred = [
+            basisu.filter(|_| cfg!(feature = "ktx2")),
+            extension_source("EXT_texture_webp"),
+        ];
+        if let Some(image) = preferred.into_iter().flatten().next() {
+            return Ok(image);
+        }
+        let core = texture.source.value();
+        if core != u32::MAX as usize {
+            return Ok(core);
+        }
+        let what = describe("texture", index, texture.name.as_deref());
+        Err(match basisu {
+            Some(_) => format!(
+                "{what}: its only image is KTX2 (KHR_texture_basisu), which this build \
+                 cannot decode (the crate's `ktx2` feature is off)"
+            ),
+            None => format!("{what}: it names no image this importer can read"),
+        })
+    }
+
+    /// Reads and decodes image `index`, charging its pixels to the budget; an
+    /// image larger than what is left of the budget is reduced to fit, with
+    /// a warning in [`Images::reduced`].
+    fn decode(&mut self, index: usize) -> Result<(LinearImage, Option<Alpha>), Unusable> {
         let image = self
             .doc
             .root
@@ -166,17 +234,44 @@ impl<'a> Images<'a> {
         };
         let (w, h) = dimensions(&bytes).map_err(ignored)?;
         let pixels = u64::from(w) * u64::from(h);
-        let total = self.pixels.saturating_add(pixels);
-        if pixels == 0 || total > self.limits.max_texture_pixels {
+        let budget = self.limits.max_texture_pixels;
+        let left = budget.saturating_sub(self.pixels);
+        let headroom = budget.saturating_mul(DECODE_HEADROOM);
+        if pixels == 0 || left == 0 || pixels > headroom {
             return Err(ignored(format!(
-                "{w} x {h} pixels would bring the pixels decoded from this file to {total}, \
-                 more than the limit of {}",
-                self.limits.max_texture_pixels
+                "{w} x {h} pixels: {}",
+                if pixels == 0 {
+                    "an empty image".to_string()
+                } else if left == 0 {
+                    format!(
+                        "the {budget} pixels this file may keep in textures (the limit) are spent"
+                    )
+                } else {
+                    format!(
+                        "more than {DECODE_HEADROOM} times the limit of {budget} pixels this \
+                         file may keep in textures, too large to decode and reduce"
+                    )
+                }
             )));
         }
-        self.pixels = total;
         self.decodes += 1;
-        decode_linear(&bytes, pixels).map_err(ignored)
+        let decoded = decode(&bytes, left, headroom).map_err(ignored)?;
+        let kept = u64::from(decoded.image.width) * u64::from(decoded.image.height);
+        self.pixels += kept;
+        if (decoded.image.width, decoded.image.height) != decoded.full {
+            self.reduced.push(format!(
+                "{what}: reduced from {w} x {h} to {} x {} texels to keep the textures of \
+                 this file within the limit of {budget} pixels (which follows the memory \
+                 limit); its finest detail is averaged",
+                decoded.image.width, decoded.image.height
+            ));
+        }
+        let alpha = decoded.alpha.map(|values| Alpha {
+            width: decoded.image.width,
+            height: decoded.image.height,
+            values,
+        });
+        Ok((decoded.image, alpha))
     }
 }
 
@@ -203,101 +298,4 @@ fn read_image_file(
             format!("{what}: its URI '{uri}' is {reason}"),
         ))
     })
-}
-
-/// The width and height from the image's header, without decoding it.
-fn dimensions(bytes: &[u8]) -> Result<(u32, u32), String> {
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        let reader = image::ImageReader::new(Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| e.to_string())?;
-        if reader.format().is_none() {
-            return Err("image format not recognised or not built in".to_string());
-        }
-        reader.into_dimensions().map_err(|e| e.to_string())
-    }));
-    outcome.unwrap_or_else(|_| Err("the image decoder failed on this image".to_string()))
-}
-
-/// Decodes an image of `pixels` texels into linear RGB; decoder panics are
-/// caught so that a corrupt image cannot abort the import.
-fn decode_linear(bytes: &[u8], pixels: u64) -> Result<LinearImage, String> {
-    let outcome = catch_unwind(AssertUnwindSafe(|| -> Result<LinearImage, String> {
-        let mut reader = image::ImageReader::new(Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| e.to_string())?;
-        let mut bounds = image::Limits::default();
-        bounds.max_alloc = Some(pixels.saturating_mul(64).max(1 << 20));
-        reader.limits(bounds);
-        let decoded = reader.decode().map_err(|e| e.to_string())?;
-        let (width, height) = (decoded.width(), decoded.height());
-        let colour = decoded.color();
-        let texels = if colour.bytes_per_pixel() == colour.channel_count() {
-            // Eight bits a channel: a table of the 256 linear values instead of
-            // a power per texel, and no f32 copy of the whole image.
-            let table: Vec<f32> = (0..=255u8)
-                .map(|v| srgb_to_linear(f64::from(v) / 255.0) as f32)
-                .collect();
-            let rgb = decoded.into_rgb8();
-            rgb.pixels()
-                .map(|p| p.0.map(|c| table[usize::from(c)]))
-                .collect()
-        } else {
-            let rgb = decoded.into_rgb32f();
-            rgb.pixels()
-                .map(|p| p.0.map(|c| srgb_to_linear(f64::from(c)) as f32))
-                .collect()
-        };
-        Ok(LinearImage {
-            width,
-            height,
-            texels,
-        })
-    }));
-    outcome.unwrap_or_else(|_| Err("the image decoder failed on this image".to_string()))
-}
-
-/// The sRGB transfer function, inverted.
-fn srgb_to_linear(c: f64) -> f64 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn png(pixels: &[[u8; 3]], w: u32, h: u32) -> Vec<u8> {
-        let img = image::RgbImage::from_raw(w, h, pixels.iter().flatten().copied().collect())
-            .expect("size matches");
-        let mut out = Cursor::new(Vec::new());
-        img.write_to(&mut out, image::ImageFormat::Png)
-            .expect("encodes");
-        out.into_inner()
-    }
-
-    #[test]
-    fn mean_of_a_two_texel_png_is_the_mean_of_linear_values() {
-        let bytes = png(&[[255, 0, 188], [0, 0, 188]], 2, 1);
-        let image = decode_linear(&bytes, 2).unwrap();
-        assert_eq!((image.width, image.height), (2, 1));
-        let mean = image.mean();
-        // 188/255 in sRGB is 0.5029... linear: ((188/255 + 0.055)/1.055)^2.4.
-        let b = ((188.0 / 255.0 + 0.055) / 1.055f64).powf(2.4);
-        assert!((mean.0[0] - 0.5).abs() < 1e-7, "{mean:?}");
-        assert_eq!(mean.0[1], 0.0);
-        assert!((mean.0[2] - b).abs() < 1e-7, "{mean:?}");
-        assert_eq!(image.texel(1, 0)[0], 0.0);
-        assert_eq!(image.texel(0, 0)[0], 1.0);
-    }
-
-    #[test]
-    fn garbage_is_refused_and_sizes_come_from_the_header() {
-        assert!(dimensions(b"not an image").is_err());
-        assert!(decode_linear(b"not an image", 1).is_err());
-        assert_eq!(dimensions(&png(&[[1, 2, 3]; 6], 3, 2)).unwrap(), (3, 2));
-    }
 }

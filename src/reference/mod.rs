@@ -104,11 +104,11 @@
 //! reduced in fixed chunks in a fixed order: the same seed gives the same bits
 //! at any thread count.
 
-mod accel;
+pub(crate) mod accel;
 mod emitters;
 mod estimator;
 mod gather;
-mod geometry;
+pub(crate) mod geometry;
 mod points;
 mod probes;
 mod rng;

@@ -11,6 +11,8 @@
 //!   [`ShadedMesh`] through a [`crate::scene::Camera`] into an [`HdrImage`].
 //! - [`draw_segments`] / [`draw_segments_depth_tested`]: overlay 3D line segments
 //!   (the element mesh) on an image.
+//! - [`default_view`]: the view of a baked mesh that has no camera, framed as
+//!   a scene's ([`crate::scene::Camera::framing`]).
 //! - [`ToneMap`], [`to_srgb8`], [`auto_exposure`]: from radiance to an 8-bit sRGB
 //!   preview.
 //! - [`false_colour`]: luminance shown on a colour ramp with a labelled legend.
@@ -28,6 +30,7 @@
 //! own `aspect`, if any, is not used: the caller chooses the image size).
 
 mod clip;
+mod default_view;
 mod depth;
 mod diff;
 mod false_colour;
@@ -43,6 +46,7 @@ mod tonemap;
 mod view;
 mod write;
 
+pub use default_view::{default_view, GLOW};
 pub use depth::DepthBuffer;
 pub use diff::{diff, DiffMetrics};
 pub use false_colour::false_colour;

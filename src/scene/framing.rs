@@ -1,27 +1,37 @@
 //! A default view of a scene that has no camera, framed as a person would:
-//! from inside an enclosure, looking across at its interior; from outside an
-//! object, looking at it.
+//! from inside the main lit room of an interior, looking across it; from
+//! outside an object, looking at it from three-quarters.
 //!
 //! - **What to frame.** The surfaces that do not emit, and the emitters
-//!   among them (within their bounds widened by a tenth): a sky quad or a
-//!   sun proxy far away lights the scene but does not shrink it in the frame.
-//! - **Inside or outside.** The signed solid angle that the framed surfaces'
-//!   fronts subtend at a point, over 4 pi, is the winding number of the
-//!   surface around it: 1 inside a closed room whose walls face inwards,
-//!   about 0.8 inside a box open on one side, 0 outside everything, -1 inside
-//!   a closed object. It is taken at the centre of the bounds and at six
-//!   points around it (so that a table at the centre does not hide the room
-//!   around it); above one half at any of them, the scene is an enclosure.
-//! - **Inside.** The eye looks horizontally across the enclosure from the
-//!   side with the least inward-facing area near it (the open side of a
-//!   Cornell box; the +z wall, glTF's front, when all are alike), at
-//!   mid-height. A side with (almost) no wall is an opening: the eye stands
-//!   back from it until the opening fills a 45 degree view, as the Cornell
-//!   box's own camera does. Otherwise the eye stands just inside the wall,
-//!   with a field of view that takes in the far wall.
-//! - **Outside.** From the +z side (glTF's front), a little above and to the
-//!   right, far enough back that the bounding sphere fits a 45 degree view.
+//!   near them (within ten times their size): a sky quad or a sun proxy far
+//!   away lights the scene but does not shrink it in the frame, while a
+//!   lamp whose body glows is framed whole.
+//! - **Open boxes.** A scene whose inward-facing walls enclose it (see
+//!   *small enclosures* below) but leave one side open, as a Cornell box,
+//!   is seen through that opening, from outside.
+//! - **Rooms.** Rays from a grid of points find the enclosed spaces whatever
+//!   way their walls face (double-sided walls included), and which of them
+//!   see a light ([`super::rooms`]). The largest lit room at least
+//!   [`ROOM_SIZE`](super::rooms::ROOM_SIZE) across (else the largest room)
+//!   is viewed from inside, across it: of the level views from its most
+//!   open points, each backed up to just short of the wall behind, the one
+//!   whose frame shows the most directly lit surfaces
+//!   ([`super::room_view`]).
+//! - **Small enclosures.** Otherwise, the signed solid angle that the framed
+//!   surfaces' fronts subtend at a point, over 4 pi, is the winding number
+//!   of the surface around it: 1 inside a closed box whose walls face
+//!   inwards, about 0.8 inside a box open on one side, 0 outside
+//!   everything, -1 inside a closed object. It is taken at the centre of the
+//!   bounds and at six points around it; above one half at any of them, the
+//!   scene is an enclosure (a Cornell box), seen from its open side (standing
+//!   back until the opening fills a 45 degree view) or from just inside the
+//!   side with the least wall.
+//! - **Outside.** From three-quarters in front (glTF's +z), a little above,
+//!   far enough back that the bounding box of the framed surfaces (the
+//!   emitting parts among them) fits a 45 degree view.
 
+use super::room_view::across_room;
+use super::rooms::{find_rooms, Room, Tracer, ROOM_SIZE, SOURCES};
 use super::{Camera, Scene, Surface};
 use glam::DVec3;
 
@@ -29,15 +39,13 @@ use glam::DVec3;
 const INSIDE: f64 = 0.5;
 
 impl Camera {
-    /// A default view of `scene`, framed as a person would. Far-away
-    /// emitters (outside the non-emitting surfaces' bounds widened by a
-    /// tenth: a sky quad, a sun) are left out of the framing. When the
-    /// winding number of the surfaces around the bounds' centre, or one of
-    /// six points around it, is above one half, the scene is an enclosure:
-    /// the eye looks horizontally across it from the side with the least
-    /// inward-facing area near it (+z when all are alike), standing back
-    /// from an open side until it fills a 45 degree view, or just inside a
-    /// wall. Otherwise the view is [`Camera::framing_box`] of the bounds.
+    /// A default view of `scene`, framed as a person would (see the module
+    /// notes): inside the main lit room of an interior, looking across it;
+    /// else inside a small enclosure such as a Cornell box, from its open
+    /// side; else the framed surfaces from three-quarters in front
+    /// ([`Camera::framing_box`] of their bounds). Far-away emitters
+    /// (beyond ten times the non-emitting surfaces' size from them: a sky
+    /// quad, a sun) are left out of the framing but still light rooms.
     #[must_use]
     pub fn framing(scene: &Scene) -> Self {
         let framed = framed_surfaces(scene);
@@ -45,33 +53,98 @@ impl Camera {
         if lo.x > hi.x {
             return Camera::framing_box(DVec3::ZERO, DVec3::ONE);
         }
-        let mut camera = if is_enclosure(&framed, lo, hi) {
-            from_inside(&framed, lo, hi)
-        } else {
-            Camera::framing_box(lo, hi)
+        let enclosure = is_enclosure(&framed, lo, hi);
+        // A box open on one side (a Cornell box) is seen through its opening.
+        if let Some(mut camera) = enclosure
+            .then(|| from_inside(&framed, lo, hi, true))
+            .flatten()
+        {
+            camera.name = "framing".to_string();
+            return camera;
+        }
+        let tracer = Tracer::new(scene, &framed, lo, hi);
+        let lights = light_points(scene);
+        let rooms = find_rooms(&tracer, lo, hi, &lights);
+        let step = (hi - lo).max_element() / 14.0;
+        let roomy = |r: &&Room| {
+            let (a, b) = r.bounds();
+            let span = b - a + step;
+            span.x.min(span.z) >= ROOM_SIZE && span.y >= ROOM_SIZE
+        };
+        let room = rooms
+            .iter()
+            .filter(roomy)
+            .find(|r| r.lit)
+            .or_else(|| rooms.iter().find(roomy));
+        let mut camera = match room {
+            Some(room) => across_room(&tracer, room, &lights),
+            None => enclosure
+                .then(|| from_inside(&framed, lo, hi, false))
+                .flatten()
+                .unwrap_or_else(|| Camera::framing_box(lo, hi)),
         };
         camera.name = "framing".to_string();
         camera
     }
 
-    /// A default view that frames the bounds `lo..hi` from outside: from the
-    /// +Z side (glTF's front), a little above and to the right, far enough
-    /// back that the bounding sphere fits a 45 degree field of view.
+    /// A default view that frames the bounds `lo..hi` from outside: from
+    /// three-quarters in front (glTF's +Z side, to the right), a little
+    /// above, looking at their centre with a 45 degree field of view, just
+    /// far enough back that every corner of the box falls within the middle
+    /// 90% of a square frame (a wider frame only adds margin at the sides).
     #[must_use]
     pub fn framing_box(lo: DVec3, hi: DVec3) -> Self {
         let centre = (lo + hi) * 0.5;
-        let radius = ((hi - lo) * 0.5).length().max(1e-9);
-        let yfov = 45f64.to_radians();
-        let dist = radius / (yfov * 0.5).sin();
-        let dir = DVec3::new(0.35, 0.25, 1.0).normalize();
+        let dir = DVec3::new(0.6, 0.35, 0.8).normalize();
+        let probe = Camera::look_at(centre + dir, centre, DVec3::Y, 45.0);
+        let (right, up) = (probe.right(), probe.up);
+        let tan = 22.5f64.to_radians().tan() * 0.9;
+        let mut dist: f64 = 1e-9;
+        for k in 0..8 {
+            let corner = DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let r = corner - centre;
+            let off_axis = r.dot(right).abs().max(r.dot(up).abs());
+            dist = dist.max(r.dot(dir) + off_axis / tan);
+        }
         let mut c = Camera::look_at(centre + dir * dist, centre, DVec3::Y, 45.0);
         c.name = "framing".to_string();
         c
     }
 }
 
-/// The non-emitting surfaces, and the emitters within their bounds widened
-/// by a tenth of their size; every surface when none is left.
+/// Where a room is lit from: the punctual lights, then points just in front
+/// of the emitting surfaces, brightest first (at most [`SOURCES`] of them).
+fn light_points(scene: &Scene) -> Vec<DVec3> {
+    let mut points: Vec<DVec3> = scene.lights.iter().map(|l| l.position).collect();
+    let mut emitters: Vec<(f64, DVec3)> = scene
+        .surfaces
+        .iter()
+        .filter(|s| scene.material_of(s).is_emitter())
+        .map(|s| {
+            let power = scene.material_of(s).emission.max_band() * s.area;
+            let size = s.area.sqrt();
+            (power, s.centroid() + s.normal * (1e-3 * size))
+        })
+        .collect();
+    emitters.sort_by(|a, b| b.0.total_cmp(&a.0));
+    points.extend(emitters.into_iter().map(|(_, p)| p));
+    points.truncate(SOURCES);
+    points
+}
+
+/// How far from the non-emitting surfaces' bounds, in their diameters, an
+/// emitter counts as far away (a sky quad, a sun proxy) and is left out of
+/// the framing.
+const FAR_EMITTER: f64 = 10.0;
+
+/// The non-emitting surfaces, and the emitters that are not far from them
+/// (within [`FAR_EMITTER`] times their bounds' diameter of those bounds: a
+/// lamp whose body glows is framed whole, a sky 1 km over a room is not);
+/// every surface when no surface is plain.
 fn framed_surfaces(scene: &Scene) -> Vec<&Surface> {
     let (plain, emitters): (Vec<&Surface>, Vec<&Surface>) = scene
         .surfaces
@@ -81,7 +154,7 @@ fn framed_surfaces(scene: &Scene) -> Vec<&Surface> {
         return emitters;
     }
     let (lo, hi) = bounds(&plain);
-    let margin = (hi - lo) * 0.1;
+    let margin = DVec3::splat(FAR_EMITTER * (hi - lo).length());
     let (lo, hi) = (lo - margin, hi + margin);
     let near = |s: &&Surface| {
         s.vertices
@@ -140,9 +213,11 @@ fn is_enclosure(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> bool {
         .any(|p| winding_number(surfaces, p) > INSIDE)
 }
 
-/// The view from just inside the side with the least inward-facing area
-/// near it, across the enclosure.
-fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> Camera {
+/// The view of an enclosure from the side with the least inward-facing
+/// area near it: from outside, when that side is open (`None` when
+/// `open_only` and it is not), else from just inside it, across the
+/// enclosure.
+fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3, open_only: bool) -> Option<Camera> {
     let size = hi - lo;
     let centre = (lo + hi) * 0.5;
     // Sides in order of preference when their walls are alike: +z first.
@@ -177,7 +252,10 @@ fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> Camera {
         // that the opening fills a 45 degree view, as the box's own camera.
         let back = half / 22.5f64.to_radians().tan();
         let eye = opening + side * back;
-        return Camera::look_at(eye, eye - side, DVec3::Y, 45.0);
+        return Some(Camera::look_at(eye, eye - side, DVec3::Y, 45.0));
+    }
+    if open_only {
+        return None;
     }
     // A closed room: just inside the wall, with a field of view that takes
     // in the far wall (within 40 to 90 degrees).
@@ -186,7 +264,7 @@ fn from_inside(surfaces: &[&Surface], lo: DVec3, hi: DVec3) -> Camera {
     let yfov = (2.0 * (half / across).atan() * 1.05)
         .to_degrees()
         .clamp(40.0, 90.0);
-    Camera::look_at(eye, eye - side, DVec3::Y, yfov)
+    Some(Camera::look_at(eye, eye - side, DVec3::Y, yfov))
 }
 
 #[cfg(test)]
@@ -261,7 +339,7 @@ mod tests {
     }
 
     #[test]
-    fn a_room_is_seen_from_inside_from_its_open_side_and_a_far_sky_is_left_out() {
+    fn a_room_is_seen_through_its_open_side_or_from_inside_and_a_far_sky_is_left_out() {
         let camera = Camera::framing(&room(true, true));
         // In front of the open side at z = 6, looking in towards -z, far
         // enough back that the 4 x 3 opening fills 45 degrees: half the
@@ -274,11 +352,15 @@ mod tests {
             "{:?}",
             camera.forward
         );
-        // Closed: from just inside the +z wall (the walls are alike).
+        // Closed: a room 4 m x 6 m, seen from inside, level, from outside
+        // the table (1.5..2.5 x 0..1.6 x 2.5..3.5).
         let closed = Camera::framing(&room(false, false));
         let p = closed.position;
-        assert!((p - v(2.0, 1.5, 3.0 + 0.45 * 6.0)).length() < 1e-9, "{p}");
-        assert!(closed.forward.dot(DVec3::NEG_Z) > 0.999_999);
+        let inside = p.cmpgt(v(0.0, 0.0, 0.0)).all() && p.cmplt(v(4.0, 3.0, 6.0)).all();
+        assert!(inside, "{p}");
+        let in_table = p.cmpgt(v(1.5, 0.0, 2.5)).all() && p.cmplt(v(2.5, 1.6, 3.5)).all();
+        assert!(!in_table, "{p}");
+        assert!(closed.forward.y.abs() < 1e-12, "{:?}", closed.forward);
     }
 
     #[test]

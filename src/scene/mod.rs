@@ -13,6 +13,8 @@ mod light;
 mod material;
 mod overlaps;
 mod regions;
+mod room_view;
+mod rooms;
 mod sky;
 mod surface;
 mod texture;

@@ -214,21 +214,48 @@ fn the_texture_pixel_limit_counts_every_image_of_a_file() {
     doc["images"] = json!([{"uri": "a.png", "name": "first"}, {"uri": "b.png", "name": "second"}]);
     doc["textures"] = json!([{"source": 0}, {"source": 1}]);
     let path = write(&dir, "two.gltf", &doc);
-    // Each image alone is within the limit, both together are not.
+    // Each image alone is within the limit, both together are not: the
+    // second is reduced to the 4 texels left, 2 x 2 blocks averaged.
     let limits = ImportLimits {
         max_texture_pixels: 20,
         ..ImportLimits::default()
     };
     let scene = load_scene(&path, &limits).unwrap();
-    assert_eq!(scene.import_stats.images_decoded, 1);
-    assert_eq!(scene.import_stats.texture_pixels, 16);
+    assert_eq!(scene.import_stats.images_decoded, 2);
+    assert_eq!(scene.import_stats.texture_pixels, 20);
+    let warning = scene
+        .warnings
+        .iter()
+        .find(|w| w.contains("reduced"))
+        .expect("the second image is reduced with a warning");
+    assert!(
+        warning.contains("image 1 ('second')")
+            && warning.contains("from 4 x 4 to 2 x 2")
+            && warning.contains("limit of 20"),
+        "{warning}"
+    );
+    // Averaging keeps the mean: both materials reflect alike.
+    let (a, b) = (
+        scene.materials[0].reflectance.0,
+        scene.materials[1].reflectance.0,
+    );
+    for (x, y) in a.iter().zip(b) {
+        assert!((x - y).abs() < 1e-6, "{a:?} {b:?}");
+    }
+    // A file whose budget is spent on the first image ignores the second,
+    // naming it.
+    let limits = ImportLimits {
+        max_texture_pixels: 16,
+        ..ImportLimits::default()
+    };
+    let scene = load_scene(&path, &limits).unwrap();
     let warning = scene
         .warnings
         .iter()
         .find(|w| w.contains("texture ignored"))
         .expect("the second image is ignored with a warning");
     assert!(
-        warning.contains("image 1 ('second')") && warning.contains("limit of 20"),
+        warning.contains("image 1 ('second')") && warning.contains("are spent"),
         "{warning}"
     );
     // The texture left out, the white factor is clamped like any other.

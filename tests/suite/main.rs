@@ -17,6 +17,8 @@ mod enclosures;
 mod energy;
 mod facing;
 mod ferren;
+mod framing;
+mod gltf_extensions;
 mod hemicube;
 mod hostile_cli;
 mod hostile_emission;
