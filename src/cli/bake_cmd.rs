@@ -3,6 +3,7 @@
 
 use super::args::SolveSettingsArgs;
 use super::checks::thread_pool;
+use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
 use super::solve_cmd::{check_gltf_name, load, load_options, settings};
 use anyhow::{Context, Result};
@@ -47,6 +48,8 @@ pub fn run(a: &BakeArgs) -> Result<()> {
     check_gltf_name(&a.output)?;
     check_target(&a.output)?;
     let settings = settings(&a.settings)?;
+    refuse_overwriting_inputs(std::slice::from_ref(&a.output), &scene_inputs(&a.scene)?)?;
+    let _lock = lock_file(&a.output)?;
     pool.install(|| {
         let scene = load(&a.scene, &load_options(&a.settings.load)?)?;
         for w in &scene.warnings {

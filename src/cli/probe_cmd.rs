@@ -2,6 +2,7 @@
 
 use super::args::ProbeArgs;
 use super::checks::thread_pool;
+use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
 use super::solve_cmd::{load, load_options, read_text, settings};
 use anyhow::{bail, Context, Result};
@@ -43,9 +44,16 @@ fn run_in_pool(a: &ProbeArgs, settings: &Settings) -> Result<()> {
         normal_degrees: a.normal_tolerance,
     };
     tolerance.validate()?;
-    if let Some(path) = &a.output {
-        check_target(path)?;
-    }
+    let _lock = match &a.output {
+        Some(path) => {
+            check_target(path)?;
+            let mut inputs = scene_inputs(&a.scene)?;
+            inputs.push(a.points.clone());
+            refuse_overwriting_inputs(std::slice::from_ref(path), &inputs)?;
+            Some(lock_file(path)?)
+        }
+        None => None,
+    };
 
     let scene = load(&a.scene, &load_options(&a.settings.load)?)?;
     for w in &scene.warnings {

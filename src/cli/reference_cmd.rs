@@ -2,6 +2,7 @@
 
 use super::args::ReferenceArgs;
 use super::checks::thread_pool;
+use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::solve_cmd::{load, load_options};
 use anyhow::Result;
 use radiosity::math::Rgb;
@@ -41,9 +42,14 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
     };
     settings.validate()?;
     let options = load_options(&a.load)?;
-    if let Some(path) = &a.output {
-        check_target(path)?;
-    }
+    let _lock = match &a.output {
+        Some(path) => {
+            check_target(path)?;
+            refuse_overwriting_inputs(std::slice::from_ref(path), &scene_inputs(&a.scene)?)?;
+            Some(lock_file(path)?)
+        }
+        None => None,
+    };
     let scene = load(&a.scene, &options)?;
     let started = Instant::now();
     let means = pool.install(|| -> Result<_> {

@@ -1,12 +1,13 @@
 //! `radiosity render`: more views of a baked solution, without solving again.
 
+use super::outputs::{lock_set, output_set, refuse_overwriting_inputs, scene_inputs};
 use super::view_args::ViewArgs;
 use super::views::{check_view_files, choose_views, write_views};
 use anyhow::Result;
 use clap::Args;
 use glam::DVec3;
 use radiosity::gltf_io::{load_baked, ImportLimits};
-use radiosity::output::{prepare_folder, Outputs};
+use radiosity::output::prepare_folder;
 use radiosity::scene::Camera;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -41,8 +42,10 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
     let views = choose_views(&plan, &baked.cameras, || Camera::framing_box(lo, hi));
-    check_view_files(views.len(), &a.view, &plan, &a.out, &baked.name)?;
-    let mut staged = Outputs::new();
+    let files = check_view_files(views.len(), &a.view, &plan, &a.out, &baked.name)?;
+    refuse_overwriting_inputs(&files, &scene_inputs(&a.baked)?)?;
+    let _lock = lock_set(&a.out, &baked.name)?;
+    let mut staged = output_set(&a.out, &baked.name)?;
     let outputs = write_views(
         &mut staged,
         &baked.mesh,

@@ -2,12 +2,13 @@
 
 use super::args::{ExportArgs, LoadArgs, SolveArgs, SolveSettingsArgs};
 use super::checks::{thread_pool, time_budget};
+use super::outputs::{lock_set, output_set, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
 use super::view_args::ViewPlan;
 use super::views::{check_view_files, choose_views, write_views, Overlay};
 use anyhow::{bail, Context, Result};
 use radiosity::gltf_io::{self, ImportLimits, LoadOptions};
-use radiosity::output::{check_target, prepare_folder, Outputs};
+use radiosity::output::{check_target, prepare_folder};
 use radiosity::pipeline::{Preview, SolveStats};
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, ShadedMesh, ToneMap};
@@ -256,8 +257,15 @@ fn run_in_pool(
 
     let views = choose_views(plan, &scene.cameras, || Camera::framing(&scene));
     // The file names follow the scene's name: checked now, before the solve.
-    check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
-    check_target(&a.out.join(format!("{}.json", scene.name)))?;
+    let mut files = check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
+    let json = a.out.join(format!("{}.json", scene.name));
+    check_target(&json)?;
+    files.push(json.clone());
+    files.extend(a.mesh_out.iter().cloned());
+    refuse_overwriting_inputs(&files, &scene_inputs(&a.scene)?)?;
+    // Held until the outputs are committed: a second run into this folder
+    // for the same scene is refused instead of mixing its files with these.
+    let _lock = lock_set(&a.out, &scene.name)?;
 
     let bars = Bars::new(a.quiet);
     let mut previews = PreviewWriter {
@@ -278,7 +286,7 @@ fn run_in_pool(
     if let Some(e) = previews.error {
         return Err(e);
     }
-    let mut staged = Outputs::new();
+    let mut staged = output_set(&a.out, &scene.name)?;
     let written: Vec<String> = previews
         .written
         .iter()
@@ -314,7 +322,6 @@ fn run_in_pool(
         eprintln!("warning: {w}");
     }
     let warnings: Vec<String> = scene.warnings.iter().chain(&s.warnings).cloned().collect();
-    let json = a.out.join(format!("{}.json", scene.name));
     outputs.push(json.display().to_string());
     let report = Report {
         scene: &scene.name,
@@ -431,6 +438,7 @@ impl PreviewWriter<'_> {
 pub fn export_scene(a: &ExportArgs) -> Result<()> {
     check_gltf_name(&a.output)?;
     check_target(&a.output)?;
+    let _lock = super::outputs::lock_file(&a.output)?;
     let Some(scene) = scenes::by_name(&a.name) else {
         bail!(
             "no built-in scene '{}' (built-in: {}, {})",

@@ -9,7 +9,7 @@ use radiosity::math::Rgb;
 use radiosity::output::{check_target, Outputs};
 use radiosity::render::{self, HdrImage, ShadedMesh};
 use radiosity::scene::Camera;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The element mesh drawn over the first view into its own PNG.
 pub struct Overlay<'a> {
@@ -100,14 +100,14 @@ fn view_stem(name: &str, i: usize) -> String {
 
 /// Checks, before any rendering, that every file [`write_views`] would write
 /// for `views` views can be written (no target is a folder, the folder takes
-/// new files).
+/// new files), and returns their paths.
 pub fn check_view_files(
     views: usize,
     args: &ViewArgs,
     plan: &ViewPlan,
     out: &Path,
     name: &str,
-) -> Result<()> {
+) -> Result<Vec<PathBuf>> {
     let mut suffixes = vec![".exr", ".png"];
     if args.hdr {
         suffixes.push(".hdr");
@@ -115,13 +115,16 @@ pub fn check_view_files(
     if plan.false_colour.is_some() {
         suffixes.push("_false.png");
     }
+    let mut files = Vec::new();
     for i in 0..views {
         let stem = view_stem(name, i);
         for suffix in &suffixes {
-            check_target(&out.join(format!("{stem}{suffix}")))?;
+            let file = out.join(format!("{stem}{suffix}"));
+            check_target(&file)?;
+            files.push(file);
         }
     }
-    Ok(())
+    Ok(files)
 }
 
 /// The false-colour range of an image: its smallest and largest luminance

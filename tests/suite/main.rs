@@ -29,6 +29,7 @@ mod lights;
 mod logo_mesh;
 mod memory_limits;
 mod messy_cli;
+mod output_sets;
 mod penumbra;
 mod penumbra_failure;
 mod penumbra_golden;
