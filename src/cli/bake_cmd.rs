@@ -2,6 +2,7 @@
 //! per-vertex radiosity.
 
 use super::args::SolveSettingsArgs;
+use super::budget::solve_settings;
 use super::checks::thread_pool;
 use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
@@ -55,7 +56,9 @@ pub fn run(a: &BakeArgs) -> Result<()> {
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }
-        let bars = Bars::new(a.quiet);
+        let settings = solve_settings(&settings, &[])?;
+        let bars = Bars::new(a.quiet)
+            .watching_cost(settings.hemicube_resolution, rayon::current_num_threads());
         let solution = radiosity::solve(&scene, &settings, &|p| bars.update(p))
             .with_context(|| format!("solving '{}'", scene.name))?;
         bars.finish();

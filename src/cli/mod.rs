@@ -2,10 +2,12 @@
 
 mod args;
 mod bake_cmd;
+mod budget;
 mod camera_arg;
 mod checks;
 mod compare_cmd;
 mod converge_cmd;
+mod cost_watch;
 mod diff_cmd;
 mod outputs;
 mod peak_memory;

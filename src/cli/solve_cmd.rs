@@ -1,6 +1,7 @@
 //! `radiosity solve`: load, solve, render every view, write images and stats.
 
 use super::args::{ExportArgs, LoadArgs, SolveArgs, SolveSettingsArgs};
+use super::budget::{image_bytes, solve_settings};
 use super::checks::{thread_pool, time_budget};
 use super::outputs::{lock_set, output_set, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
@@ -55,7 +56,14 @@ pub fn load(scene: &str, options: &LoadOptions) -> Result<Scene> {
         s.resolve_overlaps(options.overlaps)?;
         s
     };
-    scene.check_light()?;
+    if let Err(e) = scene.check_light() {
+        // What the import left out (a light of a type it does not know)
+        // may be why nothing gives light: say it before the refusal.
+        for w in &scene.warnings {
+            eprintln!("warning: {w}");
+        }
+        return Err(e.into());
+    }
     Ok(scene)
 }
 
@@ -266,8 +274,10 @@ fn run_in_pool(
     // Held until the outputs are committed: a second run into this folder
     // for the same scene is refused instead of mixing its files with these.
     let _lock = lock_set(&a.out, &scene.name)?;
+    let images = image_bytes(a.view.width, a.view.height, a.mesh_out.is_some());
+    let settings = &solve_settings(settings, &[("the images", images)])?;
 
-    let bars = Bars::new(a.quiet);
+    let bars = Bars::new(a.quiet).watching_cost(settings.hemicube_resolution, threads);
     let mut previews = PreviewWriter {
         args: a,
         scene: &scene.name,
@@ -294,6 +304,7 @@ fn run_in_pool(
         .collect();
 
     let t = Instant::now();
+    let mut view_warnings = Vec::new();
     let mesh = solution.radiance_mesh();
     let segments = if a.mesh_out.is_some() {
         solution.mesh().leaf_edges()
@@ -313,6 +324,7 @@ fn run_in_pool(
         &a.out,
         &scene.name,
         overlay,
+        &mut view_warnings,
     )?;
     outputs.extend(written);
     let render_seconds = t.elapsed().as_secs_f64();
@@ -321,7 +333,14 @@ fn run_in_pool(
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }
-    let warnings: Vec<String> = scene.warnings.iter().chain(&s.warnings).cloned().collect();
+    let warnings: Vec<String> = scene
+        .warnings
+        .iter()
+        .chain(&s.warnings)
+        .chain(&view_warnings)
+        .chain(&bars.cost_warning())
+        .cloned()
+        .collect();
     outputs.push(json.display().to_string());
     let report = Report {
         scene: &scene.name,

@@ -45,6 +45,9 @@ pub(crate) struct Workspace<'a> {
     pub scale: EmissionScale,
     /// Facets of face clusters that share one row.
     pub row_groups: RowGroups,
+    /// Punctual lights that reached no leaf of the first mesh, looked at
+    /// again on the final one (see `light_checks`).
+    pub dark_candidates: Vec<usize>,
 }
 
 impl<'a> Workspace<'a> {
@@ -92,13 +95,12 @@ impl<'a> Workspace<'a> {
             )),
             e => e,
         })?;
-        split_uniformly(
-            &mut mesh,
-            refine.uniform_depth.unwrap_or(refine.initial_depth),
-            refine.max_elements,
-            refine.uniform_depth.is_none(),
-        )?;
-        memory::check_fits(&mesh, settings.max_memory)?;
+        let depth = refine.uniform_depth.unwrap_or(refine.initial_depth);
+        let whole_clusters = refine.uniform_depth.is_none();
+        // Checked before the split allocates what it would not hold.
+        let needs = memory::needs_at_depth(&mesh, depth, whole_clusters, settings);
+        memory::check_needs(&needs, depth, settings.max_memory)?;
+        split_uniformly(&mut mesh, depth, refine.max_elements, whole_clusters)?;
         let mut stats = SolveStats::default();
         let scale = EmissionScale::normalise(&mut mesh, scene, &mut stats.warnings);
         stats.seconds.mesh = t.elapsed().as_secs_f64();
@@ -129,8 +131,14 @@ impl<'a> Workspace<'a> {
             direct: (!scene.lights.is_empty()).then(DirectLight::default),
             scale,
             row_groups,
+            dark_candidates: Vec::new(),
         };
         ws.update_direct();
+        if let Some(e) = ws.overflowing_light() {
+            return Err(e);
+        }
+        let all: Vec<usize> = (0..scene.lights.len()).collect();
+        ws.dark_candidates = ws.dark_lights(&all);
         Ok(ws)
     }
 
@@ -325,7 +333,12 @@ impl<'a> Workspace<'a> {
         let rows = self.form_factors.row_bytes();
         let leaves = self.mesh.leaf_count().max(1) as f64;
         let per_leaf = memory::leaf_bytes() as f64 + rows as f64 / leaves;
-        let used = memory::held(&self.mesh, rows as u64);
+        let hemicubes = memory::hemicube_bytes(
+            self.settings.hemicube_resolution,
+            self.mesh.patches().len(),
+            rayon::current_num_threads(),
+        );
+        let used = memory::held(&self.mesh, rows as u64) + hemicubes as u64;
         memory::leaves_that_fit(self.settings.max_memory, used, per_leaf)
     }
 
