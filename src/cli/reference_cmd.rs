@@ -17,6 +17,8 @@ struct ObjectReference {
     /// Whether any surface of the object emits (its radiosity is then mostly
     /// its own emission, which `compare` does not count).
     emits: bool,
+    /// Its area (m²), so that `compare` can tell another scene.
+    area: f64,
     radiosity: Rgb,
     std_error: Rgb,
     paths: u64,
@@ -73,6 +75,12 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
                     .surfaces
                     .iter()
                     .any(|s| s.object as usize == i && scene.material_of(s).is_emitter()),
+                area: scene
+                    .surfaces
+                    .iter()
+                    .filter(|s| s.object as usize == i)
+                    .map(|s| s.area)
+                    .sum(),
                 radiosity: m.radiosity,
                 std_error: m.std_error,
                 paths: m.paths,
