@@ -54,7 +54,8 @@ pub fn solve_settings(settings: &Settings, others: &[(&str, u64)]) -> Result<Set
     })
 }
 
-fn gb(bytes: u64) -> String {
+/// `bytes` for a person: "1.25 GB", "420 MB".
+pub fn gb(bytes: u64) -> String {
     let b = bytes as f64;
     if b >= 1e9 {
         format!("{:.2} GB", b / 1e9)

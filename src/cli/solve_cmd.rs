@@ -275,6 +275,7 @@ fn run_in_pool(
     // for the same scene is refused instead of mixing its files with these.
     let _lock = lock_set(&a.out, &scene.name)?;
     let images = image_bytes(a.view.width, a.view.height, a.mesh_out.is_some());
+    let limit = settings.max_memory;
     let settings = &solve_settings(settings, &[("the images", images)])?;
 
     let bars = Bars::new(a.quiet).watching_cost(settings.hemicube_resolution, threads);
@@ -291,7 +292,21 @@ fn run_in_pool(
         radiosity::pipeline::solve_with_previews(&scene, settings, &|p| bars.update(p), &mut |p| {
             previews.write(p)
         })
-        .with_context(|| format!("solving '{}'", scene.name))?;
+        .map_err(|e| {
+            let memory = matches!(e, radiosity::Error::Limit(_));
+            let context = if memory {
+                format!(
+                    "solving '{}' ({} of the {} --max-memory are the solve's; the rest \
+                     holds the program, the scene and the images)",
+                    scene.name,
+                    super::budget::gb(settings.max_memory),
+                    super::budget::gb(limit)
+                )
+            } else {
+                format!("solving '{}'", scene.name)
+            };
+            anyhow::Error::from(e).context(context)
+        })?;
     bars.finish();
     if let Some(e) = previews.error {
         return Err(e);
