@@ -38,12 +38,8 @@ impl OutputLock {
             folder
         };
         let path = folder.join(format!(".{name}.lock"));
-        pending::register(&path).map_err(|e| Error::io(&path, e))?;
-        let taken = take(&path, folder, name);
-        if taken.is_err() {
-            pending::forget(&path);
-        }
-        taken.map(|file| OutputLock { path, _file: file })
+        let file = take(&path, folder, name)?;
+        Ok(OutputLock { path, _file: file })
     }
 
     /// The lock file.
@@ -63,23 +59,28 @@ impl Drop for OutputLock {
 }
 
 /// Opens and locks the lock file, again if it was replaced in between.
+/// The file is registered as unfinished while it is held (see
+/// [`pending`]), so that a run stopped by a signal removes it.
 #[cfg(unix)]
 fn take(path: &Path, folder: &Path, name: &str) -> Result<File> {
     use std::io::{Read, Seek, Write};
     use std::os::unix::fs::MetadataExt;
     use std::os::unix::io::AsRawFd;
     loop {
-        let mut file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create(true)
-            .truncate(false)
-            .open(path)
-            .map_err(|e| Error::io(path, e))?;
+        let opened = pending::create(path, |p| {
+            std::fs::OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(p)
+        });
+        let mut file = opened.map_err(|e| Error::io(path, e))?;
         // SAFETY: `flock` on a descriptor this function owns and keeps open.
         let held = unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
         if held != 0 {
             let e = std::io::Error::last_os_error();
+            pending::forget(path);
             if e.raw_os_error() != Some(libc::EWOULDBLOCK) {
                 return Err(Error::io(path, e));
             }
@@ -106,6 +107,7 @@ fn take(path: &Path, folder: &Path, name: &str) -> Result<File> {
             _ => false,
         };
         if !same {
+            pending::forget(path);
             continue;
         }
         let _ = file.set_len(0);
@@ -120,22 +122,24 @@ fn take(path: &Path, folder: &Path, name: &str) -> Result<File> {
 /// hand, which the message says).
 #[cfg(not(unix))]
 fn take(path: &Path, folder: &Path, name: &str) -> Result<File> {
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(path)
-        .map_err(|e| {
-            if e.kind() == std::io::ErrorKind::AlreadyExists {
-                Error::Output {
-                    path: folder.to_path_buf(),
-                    message: format!(
-                        "another run is writing the outputs '{name}' in this folder (or one \
+    pending::create(path, |p| {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(p)
+    })
+    .map_err(|e| {
+        if e.kind() == std::io::ErrorKind::AlreadyExists {
+            Error::Output {
+                path: folder.to_path_buf(),
+                message: format!(
+                    "another run is writing the outputs '{name}' in this folder (or one \
                          stopped without removing {}); wait for it, or remove that file",
-                        path.display()
-                    ),
-                }
-            } else {
-                Error::io(path, e)
+                    path.display()
+                ),
             }
-        })
+        } else {
+            Error::io(path, e)
+        }
+    })
 }

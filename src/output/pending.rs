@@ -34,13 +34,19 @@ fn registry() -> MutexGuard<'static, Registry> {
         .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
-/// Records `path` (a file or a folder about to be created) as unfinished.
+/// Creates `path` through `make` and records it as unfinished, both while
+/// the list is held, so that [`remove_unfinished`] either finds it or keeps
+/// it from being made: a file made in between would outlive the clean-up.
 ///
 /// # Errors
 ///
-/// An [`std::io::ErrorKind::Interrupted`] error once [`remove_unfinished`]
-/// has run: the process is stopping and must not create anything more.
-pub(super) fn register(path: &Path) -> std::io::Result<()> {
+/// What `make` returns; an [`std::io::ErrorKind::Interrupted`] error once
+/// [`remove_unfinished`] has run (the process is stopping and must not
+/// create anything more).
+pub(super) fn create<T>(
+    path: &Path,
+    make: impl FnOnce(&Path) -> std::io::Result<T>,
+) -> std::io::Result<T> {
     let mut r = registry();
     if r.closed {
         return Err(std::io::Error::new(
@@ -48,8 +54,28 @@ pub(super) fn register(path: &Path) -> std::io::Result<()> {
             "the run is stopping (interrupted)",
         ));
     }
+    let made = make(path)?;
     r.paths.push(path.to_path_buf());
-    Ok(())
+    Ok(made)
+}
+
+/// Runs `make` (which creates something inside a registered folder) while
+/// the list is held, unless the run is stopping: a file made in a staging
+/// folder while the clean-up empties it would keep the folder from going.
+///
+/// # Errors
+///
+/// What `make` returns, or [`std::io::ErrorKind::Interrupted`] once
+/// [`remove_unfinished`] has run.
+pub(super) fn inside<T>(make: impl FnOnce() -> std::io::Result<T>) -> std::io::Result<T> {
+    let r = registry();
+    if r.closed {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::Interrupted,
+            "the run is stopping (interrupted)",
+        ));
+    }
+    make()
 }
 
 /// Forgets `path`: it was renamed into place or removed.
@@ -65,6 +91,14 @@ pub(super) fn commit_guard() -> MutexGuard<'static, ()> {
     COMMIT
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Whether [`remove_unfinished`] has run: the process is stopping, and an
+/// error the work met since (a refused temporary) is a consequence, not a
+/// fault to report.
+#[must_use]
+pub fn stopping() -> bool {
+    registry().closed
 }
 
 /// Proof that the unfinished outputs are gone; while it is held no commit

@@ -117,11 +117,13 @@ impl VersionedSet {
             });
         }
         let staged = self.version.join(&key);
-        let file = OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&staged)
-            .map_err(|e| Error::io(path, e))?;
+        let file = pending::inside(|| {
+            OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&staged)
+        })
+        .map_err(|e| Error::io(path, e))?;
         let written = (|| {
             let mut writer = BufWriter::new(&file);
             write(&mut writer)?;
@@ -353,15 +355,10 @@ fn fresh_folder(anchor: &Path, name: &str) -> Result<PathBuf> {
     loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
         let path = anchor.join(format!(".{name}.outputs-{}-{n}", std::process::id()));
-        pending::register(&path).map_err(|e| Error::io(&path, e))?;
-        match std::fs::create_dir(&path) {
+        match pending::create(&path, |p| std::fs::create_dir(p)) {
             Ok(()) => return Ok(path),
-            Err(e) => {
-                pending::forget(&path);
-                if e.kind() != std::io::ErrorKind::AlreadyExists {
-                    return Err(Error::io(anchor, e));
-                }
-            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) => return Err(Error::io(anchor, e)),
         }
     }
 }
@@ -385,9 +382,9 @@ fn is_our_link(e: &Entry) -> bool {
 /// there in one rename.
 fn place_link(link: &Path, target: &Path) -> Result<()> {
     let temp = link_temporary(link);
-    pending::register(&temp).map_err(|e| Error::io(link, e))?;
-    let made =
-        std::os::unix::fs::symlink(target, &temp).and_then(|()| std::fs::rename(&temp, link));
+    pending::create(&temp, |t| std::os::unix::fs::symlink(target, t))
+        .map_err(|e| Error::io(link, e))?;
+    let made = std::fs::rename(&temp, link);
     if made.is_err() {
         let _ = std::fs::remove_file(&temp);
     }
@@ -406,10 +403,10 @@ fn swap_pointer(pointer: &Path, version: &Path) -> Result<()> {
         COUNTER.fetch_add(1, Ordering::Relaxed)
     ));
     let temp = PathBuf::from(temp);
-    pending::register(&temp).map_err(|e| Error::io(pointer, e))?;
     let _ = std::fs::remove_file(&temp);
-    let made =
-        std::os::unix::fs::symlink(target, &temp).and_then(|()| std::fs::rename(&temp, pointer));
+    pending::create(&temp, |t| std::os::unix::fs::symlink(target, t))
+        .map_err(|e| Error::io(pointer, e))?;
+    let made = std::fs::rename(&temp, pointer);
     if made.is_err() {
         let _ = std::fs::remove_file(&temp);
     }

@@ -307,8 +307,10 @@ impl Temporary {
         loop {
             let n = COUNTER.fetch_add(1, Ordering::Relaxed);
             let path = folder.join(format!(".{short}.{}-{n}.tmp", std::process::id()));
-            super::pending::register(&path)?;
-            match OpenOptions::new().write(true).create_new(true).open(&path) {
+            let opened = super::pending::create(&path, |p| {
+                OpenOptions::new().write(true).create_new(true).open(p)
+            });
+            match opened {
                 Ok(file) => {
                     return Ok(Temporary {
                         path,
@@ -316,12 +318,8 @@ impl Temporary {
                         kept: false,
                     })
                 }
-                Err(e) => {
-                    super::pending::forget(&path);
-                    if e.kind() != std::io::ErrorKind::AlreadyExists {
-                        return Err(e);
-                    }
-                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                Err(e) => return Err(e),
             }
         }
     }
