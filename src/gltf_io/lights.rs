@@ -22,6 +22,10 @@ use std::path::Path;
 /// The extension's name.
 pub(super) const EXTENSION: &str = "KHR_lights_punctual";
 
+/// More distinct lights than this are named in a warning at load, before
+/// the work: each costs a shadow ray per sample point.
+const MANY_LIGHTS: usize = 256;
+
 /// Every light placed by a node of `placed`, in the walk's order. Values out
 /// of range are an error naming the file, the light and its node; unknown
 /// light types and lights no node places are warnings.
@@ -119,6 +123,16 @@ pub(super) fn placed_lights(
              direction, range and cones does, and were merged into it: their power adds, \
              so the light is the same and its cost {:.0} times less",
             (merged + out.len()) as f64 / out.len() as f64
+        ));
+    }
+    if out.len() > MANY_LIGHTS {
+        warnings.push(format!(
+            "{} distinct {EXTENSION} lights: the direct light casts a shadow ray from every \
+             sample point of every element to each of them, so it costs {} times what one \
+             light does (an emissive surface of the same total power is solved by the \
+             hemi-cubes instead)",
+            out.len(),
+            out.len()
         ));
     }
     if !unknown.is_empty() {

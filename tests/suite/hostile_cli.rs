@@ -123,9 +123,10 @@ fn outputs_whose_target_is_a_folder_are_refused_before_the_solve() {
     assert_refused(&args, "cornell_box.json");
 }
 
-/// Runs the binary with writes limited to `bytes` per file (SIGXFSZ ignored,
-/// so an over-long write fails with EFBIG instead of killing the process):
-/// the disk-full and file-size-limit case, part way through a file.
+/// Runs the binary with writes limited to `bytes` per file: the disk-full
+/// and file-size-limit case, part way through a file. SIGXFSZ keeps its
+/// default action (death without a word) here: the binary itself ignores
+/// it, so that the write fails with EFBIG and the run ends with a message.
 #[cfg(unix)]
 fn radiosity_with_file_limit(args: &[&str], bytes: u64) -> Output {
     use std::os::unix::process::CommandExt;
@@ -135,7 +136,7 @@ fn radiosity_with_file_limit(args: &[&str], bytes: u64) -> Output {
     // functions signal(2) and setrlimit(2).
     unsafe {
         command.pre_exec(move || {
-            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            libc::signal(libc::SIGXFSZ, libc::SIG_DFL);
             let limit = libc::rlimit {
                 rlim_cur: bytes as libc::rlim_t,
                 rlim_max: bytes as libc::rlim_t,
