@@ -12,22 +12,37 @@ limit and a memory limit (RLIMIT_AS), and its outcome is classified:
   memory   killed or aborted for want of memory under the limit
   crash    any other signal or exit code
 
-The cases come from four generators:
+The cases come from these generators:
 
-  json     JSON mutations of exported scenes: numbers replaced by hostile ones,
-           keys deleted, values of another type, arrays emptied or repeated,
-           indices swapped, URIs pointed elsewhere
-  bytes    byte mutations of exported .glb and .gltf files: flips, runs,
-           insertions, deletions, truncations
-  scene    random valid scenes with hostile numbers: scales from micrometres to
-           the coordinate bound, reflectances at 0 and 1, emission over 600
-           orders of magnitude, slivers, node transforms of every kind
-  options  the built-in Cornell box under hostile command-line values
+  json       JSON mutations of exported scenes: numbers replaced by hostile
+             ones, keys deleted, values of another type, arrays emptied or
+             repeated, indices swapped, URIs pointed elsewhere
+  bytes      byte mutations of exported .glb and .gltf files: flips, runs,
+             insertions, deletions, truncations
+  scene      random valid scenes with hostile numbers: scales from micrometres
+             to the coordinate bound, reflectances at 0 and 1, emission over
+             600 orders of magnitude, slivers, node transforms of every kind
+  options    the built-in Cornell box under hostile command-line values
+  lights     KHR_lights_punctual lights of hostile values and types, placed
+             inside, outside, at a surface, far away, thousands at one place
+  textures   base-colour textures broken, cut short, oversized, named by
+             hostile URIs, under hostile texture transforms
+  probe      points files with byte-order marks, headers, typos, odd line ends
+  compare    solve and reference tables with hostile values, other scenes,
+             other areas, missing or renamed surfaces
+  signals    SIGINT, SIGTERM or SIGKILL at a random moment of a solve (now and
+             then during its commit) that replaces a previous set
+  concurrent two solves into one folder at once
+
+An exit-0 run is judged by invariants as well (scripts/fuzz_invariants.py):
+finite outputs, energy balance or a warning, no all-black picture without
+a warning nor an all-white one, the output set of one run, no temporaries
+left, inputs unchanged; a broken invariant is a failure ("invariant").
 
 The seed is printed first; the same seed and options give the same cases.
-A panic, timeout, memory kill or crash makes the script exit with status 1
-(after the summary), and `--keep DIR` saves each such case (its files and
-command line) for a regression test.
+A panic, timeout, memory kill, crash or broken invariant makes the script
+exit with status 1 (after the summary), and `--keep DIR` saves each such
+case (its files and command line) for a regression test.
 
 Usage: python3 scripts/fuzz_cli.py [--cases N] [--seed S] [--binary PATH]
 """
@@ -46,6 +61,9 @@ import subprocess
 import sys
 import tempfile
 import time
+
+import fuzz_invariants as inv
+import fuzz_more
 
 # Settings that keep one solve well under a second on the seed scenes, and a
 # small image.
@@ -86,7 +104,7 @@ class Tally:
         return sum(n for (_, o), n in self.counts.items() if o == outcome)
 
     def report(self):
-        outcomes = ["ok", "error", "usage", "panic", "timeout", "memory", "crash"]
+        outcomes = ["ok", "error", "usage", "panic", "timeout", "memory", "crash", "invariant"]
         generators = sorted({g for g, _ in self.counts})
         lines = ["generator " + " ".join(f"{o:>8}" for o in outcomes)]
         for g in generators + ["all"]:
@@ -501,8 +519,12 @@ def seeds(binary, folder):
 
 def command_for(rng, scene, case_dir):
     """A subcommand that reads `scene`: mostly solve, sometimes bake then
-    render, probe or reference."""
+    render, probe or reference; now and then with an output named after the
+    scene itself (which must be refused)."""
     kind = rng.random()
+    if kind < 0.04:
+        return [rng.choice([["solve", scene, "--out", "out", "--mesh-out", scene] + QUICK + IMAGE,
+                            ["reference", scene, "--paths", "20", "-o", scene]])]
     if kind < 0.7:
         return [["solve", scene, "--out", "out"] + QUICK + IMAGE]
     if kind < 0.85:
@@ -546,7 +568,45 @@ def make_case(rng, generator, seed_files, case_dir):
     return command_for(rng, name, case_dir)
 
 
-FAILURES = {"panic", "timeout", "memory", "crash"}
+FAILURES = {"panic", "timeout", "memory", "crash", "invariant"}
+
+OUTPUT_FOLDERS = ("out", "rendered", "folder")
+
+
+def judge(commands, case_dir, err):
+    """The invariants an exit-0 run of the older generators' commands must
+    hold (see fuzz_invariants)."""
+    failures = []
+    for command in commands:
+        exposure = any(a.startswith("--exposure") for a in command)
+        if command[0] == "solve":
+            width = None if any(a.startswith("--width=") for a in command) else 24
+            out = os.path.join(case_dir, "out")
+            failures += fuzz_more.judge_solve(out, err, width, exposure)
+        elif command[0] == "render":
+            rendered = os.path.join(case_dir, "rendered")
+            failures += inv.check_pictures(rendered, err, exposure) + inv.check_tidy(rendered)
+        elif command[0] == "reference":
+            try:
+                with open(os.path.join(case_dir, "ref.json")) as f:
+                    bad = inv.non_finite(json.load(f))
+            except (OSError, ValueError) as e:
+                bad = [str(e)]
+            failures += [f"reference: non-finite or unreadable {bad[:3]}"] if bad else []
+    return failures
+
+
+def compare_tables(binary, work):
+    """A solve's stats and a reference of the same scene, for `compare`."""
+    subprocess.run([binary, "solve", "cornell_box", "--out", "tables"] + QUICK + IMAGE,
+                   cwd=work, check=True)
+    subprocess.run([binary, "reference", "cornell_box", "--paths", "200", "--threads", "1",
+                    "-o", "tables/reference.json"], cwd=work, check=True)
+    with open(os.path.join(work, "tables", "cornell_box.json")) as f:
+        solution = json.load(f)
+    with open(os.path.join(work, "tables", "reference.json")) as f:
+        reference = json.load(f)
+    return solution, reference
 
 
 def main():
@@ -556,7 +616,8 @@ def main():
     parser.add_argument("--seed", type=int, default=None, help="default: random, printed")
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per command")
     parser.add_argument("--memory-mb", type=int, default=4096, help="address space per command")
-    parser.add_argument("--generators", default="json,bytes,scene,options")
+    parser.add_argument("--generators", default="json,bytes,scene,options,lights,textures,"
+                        "probe,compare,signals,concurrent")
     parser.add_argument("--keep", default=None, help="folder for the failing cases")
     parser.add_argument("--verbose", action="store_true", help="one line per case")
     args = parser.parse_args()
@@ -574,18 +635,36 @@ def main():
     started = time.monotonic()
     with tempfile.TemporaryDirectory(prefix="fuzz_cli_") as work:
         seed_files = seeds(binary, work)
+        fuzz_more.CLASSIFY = classify
+        tables = compare_tables(binary, work) if "compare" in generators else None
         for i in range(args.cases):
             generator = generators[i % len(generators)]
             case_rng = random.Random(rng.randrange(2**63))
             case_dir = os.path.join(work, f"case{i}")
             os.makedirs(case_dir)
-            commands = make_case(case_rng, generator, seed_files, case_dir)
-            outcome, last = "ok", None
-            for command in commands:
-                outcome, code, err = run(binary, command, case_dir, args.timeout, memory)
-                last = (command, code, err)
-                if outcome != "ok":
-                    break
+            if generator == "compare":
+                r = fuzz_more.case_compare(case_rng, run, binary, case_dir, tables,
+                                           args.timeout, memory)
+                outcome, last, broken = r.outcome, (r.command, r.code, r.err), r.failures
+            elif generator in fuzz_more.GENERATORS:
+                r = fuzz_more.GENERATORS[generator](case_rng, run, binary, case_dir, seed_files,
+                                                    args.timeout, memory)
+                outcome, last, broken = r.outcome, (r.command, r.code, r.err), r.failures
+            else:
+                commands = make_case(case_rng, generator, seed_files, case_dir)
+                before = inv.digest_files(case_dir, skip=OUTPUT_FOLDERS)
+                outcome, last = "ok", None
+                for command in commands:
+                    outcome, code, err = run(binary, command, case_dir, args.timeout, memory)
+                    last = (command, code, err)
+                    if outcome != "ok":
+                        break
+                broken = inv.check_inputs(before, case_dir, skip=OUTPUT_FOLDERS)
+                if outcome == "ok":
+                    broken += judge(commands, case_dir, last[2])
+            if broken and outcome not in FAILURES:
+                outcome = "invariant"
+                last = (last[0], last[1], "\n".join(broken) + "\n" + (last[2] or ""))
             tally.add(generator, outcome)
             if args.verbose:
                 why = last[2].strip().splitlines()[-1:] if last[2] else []

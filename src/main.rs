@@ -6,7 +6,14 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     keep_freed_memory();
-    match cli::run() {
+    let result = cli::run();
+    // A signal's clean-up is under way in the watcher thread, which ends
+    // the process with the signal's status when it is done; what the work
+    // met meanwhile (a temporary refused) is no error of its own.
+    while radiosity::output::stopping() {
+        std::thread::park();
+    }
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");

@@ -2,7 +2,9 @@
 //! per-vertex radiosity.
 
 use super::args::SolveSettingsArgs;
+use super::budget::solve_settings;
 use super::checks::thread_pool;
+use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
 use super::solve_cmd::{check_gltf_name, load_options, load_within, settings};
 use anyhow::{Context, Result};
@@ -47,6 +49,8 @@ pub fn run(a: &BakeArgs) -> Result<()> {
     check_gltf_name(&a.output)?;
     check_target(&a.output)?;
     let settings = settings(&a.settings)?;
+    refuse_overwriting_inputs(std::slice::from_ref(&a.output), &scene_inputs(&a.scene)?)?;
+    let _lock = lock_file(&a.output)?;
     pool.install(|| {
         let scene = load_within(
             &a.scene,
@@ -56,7 +60,9 @@ pub fn run(a: &BakeArgs) -> Result<()> {
         for w in &scene.warnings {
             eprintln!("warning: {w}");
         }
-        let bars = Bars::new(a.quiet);
+        let settings = solve_settings(&settings, &[])?;
+        let bars = Bars::new(a.quiet)
+            .watching_cost(settings.hemicube_resolution, rayon::current_num_threads());
         let solution = radiosity::solve(&scene, &settings, &|p| bars.update(p))
             .with_context(|| format!("solving '{}'", scene.name))?;
         bars.finish();

@@ -63,14 +63,17 @@ pub fn check_threads(n: usize) -> Result<()> {
     Ok(())
 }
 
-/// `--time-budget` as a duration: refuses NaN, negative and infinite values
-/// and anything above [`MAX_TIME_BUDGET_SECONDS`].
+/// `--time-budget` as a duration: refuses 0, NaN, negative and infinite
+/// values and anything above [`MAX_TIME_BUDGET_SECONDS`].
 pub fn time_budget(seconds: Option<f64>) -> Result<Option<Duration>> {
     let Some(t) = seconds else {
         return Ok(None);
     };
-    if !(t.is_finite() && t >= 0.0) {
-        bail!("--time-budget must be a number of seconds >= 0, got {t}");
+    if !(t.is_finite() && t > 0.0) {
+        bail!(
+            "--time-budget must be a number of seconds above 0, got {t} (a budget of 0 stops \
+             before the first shot: a black picture)"
+        );
     }
     if t > MAX_TIME_BUDGET_SECONDS {
         bail!(
@@ -122,7 +125,7 @@ mod tests {
             time_budget(Some(1.5)).unwrap(),
             Some(Duration::from_millis(1500))
         );
-        for bad in [1e20, f64::NAN, -1.0, f64::INFINITY, 1.1e9] {
+        for bad in [1e20, f64::NAN, -1.0, f64::INFINITY, 1.1e9, 0.0, -0.0] {
             assert!(time_budget(Some(bad)).is_err(), "{bad} accepted");
         }
     }

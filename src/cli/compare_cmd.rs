@@ -16,6 +16,12 @@ use std::fmt::Write as _;
 
 const BANDS: [&str; 3] = ["R", "G", "B"];
 
+/// Largest relative difference between the areas the two files give one
+/// surface: the solve sums its elements, the reference its surfaces, so they
+/// agree to rounding; a different scene with the same object names differs
+/// by far more.
+const AREA_TOLERANCE: f64 = 1e-3;
+
 /// Most names listed when surfaces are missing on either side.
 const NAMES_SHOWN: usize = 8;
 
@@ -75,6 +81,15 @@ fn compare<'a>(solution: &SurfaceTable, reference: &'a SurfaceTable) -> Result<C
     let mut relative = Vec::new();
     for r in &reference.rows {
         let s = &solution.rows[find(solution, &r.name).expect("matched above")];
+        if let (Some(sa), Some(ra)) = (s.area, r.area) {
+            if (sa - ra).abs() > AREA_TOLERANCE * sa.max(ra) {
+                bail!(
+                    "surface '{}' has an area of {sa} m² in the solution and {ra} m² in the \
+                     reference: they are not of the same scene",
+                    r.name
+                );
+            }
+        }
         let bands = std::array::from_fn(|k| {
             let (got, want) = (s.radiosity[k], r.radiosity[k]);
             if want == 0.0 {
@@ -126,9 +141,9 @@ pub fn run(a: &CompareArgs) -> Result<()> {
     let reference = read_table(&a.reference)?;
     if let (Some(s), Some(r)) = (&solution.scene, &reference.scene) {
         if s != r {
-            eprintln!(
-                "warning: {} is a solution of '{s}', {} a reference of '{r}'; their objects \
-                 match by name, so they are compared",
+            bail!(
+                "{} is a solution of the scene '{s}' and {} a reference of '{r}': compare \
+                 needs both of the same scene",
                 a.solution.display(),
                 a.reference.display()
             );
@@ -241,6 +256,22 @@ mod tests {
         assert_eq!(c.relative.len(), 2);
         assert!(c.relative.iter().all(|e| e.is_finite()));
         assert!((c.relative[0] - 0.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn surfaces_of_another_size_are_another_scene() {
+        let sized = |area: f64| {
+            let json = serde_json::json!({"surfaces": [
+                {"name": "a", "radiosity": [1.0, 1.0, 1.0], "area": area}
+            ]});
+            parse_table(&json.to_string()).unwrap()
+        };
+        assert!(compare(&sized(2.0), &sized(2.0 * (1.0 + 1e-9))).is_ok());
+        let e = compare(&sized(2.0), &sized(3.0)).unwrap_err().to_string();
+        assert!(
+            e.contains("'a'") && e.contains("not of the same scene"),
+            "{e}"
+        );
     }
 
     #[test]

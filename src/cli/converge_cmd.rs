@@ -2,9 +2,10 @@
 
 use super::args::ConvergeArgs;
 use super::checks::thread_pool;
+use super::outputs::{lock_set, output_set, refuse_overwriting_inputs, scene_inputs};
 use super::solve_cmd::{load, load_options, settings};
 use anyhow::{bail, Context, Result};
-use radiosity::output::{prepare_folder, Outputs};
+use radiosity::output::{prepare_folder, OutputLock, Outputs};
 use radiosity::report::{
     self, markdown_report, object_reference, objects_csv, run_sweep, runs_csv, Method,
     MonteCarloPoints, ReferencePoints, SweepEvent, SweepPlan,
@@ -13,30 +14,43 @@ use radiosity::scenes::penumbra;
 use radiosity::Settings;
 use std::path::{Path, PathBuf};
 
-/// Runs `radiosity converge`.
 /// Runs `radiosity converge`. The options and the output folder are checked
 /// before any scene is loaded, each scene's sweep settings before its
-/// reference is computed; the files of every scene replace their targets
-/// together at the end (none of them if any scene fails).
+/// reference is computed. Each scene's files are one set (SCENE.converge),
+/// locked from its load to the end; the sets are all committed at the end
+/// (none of them if any scene fails), each in one step.
 pub fn run(a: &ConvergeArgs) -> Result<()> {
     let pool = thread_pool(a.settings.threads)?;
     let methods = parse_methods(&a.methods)?;
     let base = settings(&a.settings)?;
     check_counts(a)?;
     prepare_folder(&a.out)?;
-    let mut outputs = Outputs::new();
+    let mut sets = Vec::new();
     pool.install(|| {
         for scene in &a.scenes {
-            converge_one(a, &methods, &base, scene, &mut outputs)?;
+            sets.push(converge_one(a, &methods, &base, scene)?);
         }
         anyhow::Ok(())
     })?;
     let mut listing = String::new();
-    for path in outputs.commit()? {
-        listing += &format!("{}\n", path.display());
+    for (outputs, _lock) in sets {
+        for path in outputs.commit()? {
+            listing += &format!("{}\n", path.display());
+        }
     }
     super::stdout::write_out(&listing)
 }
+
+/// The files of one scene's report, after its name.
+const OUTPUT_SUFFIXES: [&str; 7] = [
+    ".csv",
+    ".md",
+    "_objects.csv",
+    "_error_time.svg",
+    "_error_time.png",
+    "_error_depth.svg",
+    "_error_depth.png",
+];
 
 /// Refuses counts that leave nothing to measure.
 fn check_counts(a: &ConvergeArgs) -> Result<()> {
@@ -69,9 +83,15 @@ fn converge_one(
     methods: &[Method],
     base: &Settings,
     name: &str,
-    outputs: &mut Outputs,
-) -> Result<()> {
+) -> Result<(Outputs, OutputLock)> {
     let scene = load(name, &load_options(&a.settings.load)?)?;
+    let set_name = format!("{}.converge", scene.name);
+    let lock = lock_set(&a.out, &set_name)?;
+    let files: Vec<PathBuf> = OUTPUT_SUFFIXES
+        .iter()
+        .map(|suffix| a.out.join(format!("{}{suffix}", scene.name)))
+        .collect();
+    refuse_overwriting_inputs(&files, &scene_inputs(name)?)?;
     let say = |text: String| {
         if !a.quiet {
             eprintln!("{text}");
@@ -180,6 +200,8 @@ fn converge_one(
     .with_context(|| format!("sweeping '{}'", scene.name))?;
 
     let file = |suffix: &str| -> PathBuf { a.out.join(format!("{}{suffix}", scene.name)) };
+    let mut outputs = output_set(&a.out, &set_name)?;
+    let outputs = &mut outputs;
     let csv = runs_csv(&scene.name, &reference, &records);
     outputs.stage_bytes(&file(".csv"), csv.as_bytes())?;
     let md = markdown_report(&scene.name, &reference, &records);
@@ -193,5 +215,5 @@ fn converge_one(
     let (svg, png) = (file("_error_depth.svg"), file("_error_depth.png"));
     let base_size = plan.base.patch_size_for(&scene);
     report::stage_depth_plot(outputs, &scene.name, &records, base_size, &svg, &png)?;
-    Ok(())
+    Ok((std::mem::take(outputs), lock))
 }

@@ -1,5 +1,6 @@
 //! `radiosity diff`: compare two linear images.
 
+use super::outputs::{lock_file, refuse_overwriting_inputs};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use radiosity::output::check_target;
@@ -52,6 +53,8 @@ pub fn run(a: &DiffArgs) -> Result<()> {
         );
     }
     check_target(&output)?;
+    refuse_overwriting_inputs(std::slice::from_ref(&output), &[a.a.clone(), a.b.clone()])?;
+    let _lock = lock_file(&output)?;
     let image_a = render::read_hdr_image(&a.a)?;
     let image_b = render::read_hdr_image(&a.b)?;
     let (difference, metrics) = render::diff(&image_a, &image_b)

@@ -2,18 +2,22 @@
 
 mod args;
 mod bake_cmd;
+mod budget;
 mod camera_arg;
 mod checks;
 mod compare_cmd;
 mod converge_cmd;
+mod cost_watch;
 mod daylight_args;
 mod diff_cmd;
+mod outputs;
 mod peak_memory;
 mod probe_cmd;
 mod progress_bar;
 mod progress_lines;
 mod reference_cmd;
 mod render_cmd;
+mod signals;
 mod solve_cmd;
 mod stdout;
 mod surface_table;
@@ -27,6 +31,7 @@ pub use args::{Cli, Command};
 
 /// Parses the command line and runs the chosen subcommand.
 pub fn run() -> Result<()> {
+    signals::install()?;
     let cli = Cli::parse();
     // No subcommand: the default job, solving the built-in Cornell box.
     let command = match cli.command {

@@ -12,6 +12,16 @@ pub fn peak_resident_bytes() -> Option<u64> {
     parse_vm_hwm(&status)
 }
 
+/// The memory the process holds resident now, in bytes (`VmRSS`). `None`
+/// on other systems or if the file cannot be read.
+pub fn resident_bytes() -> Option<u64> {
+    if !cfg!(target_os = "linux") {
+        return None;
+    }
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_kib(&status, "VmRSS:")
+}
+
 /// `VmHWM` in bytes from the text of `/proc/self/status` (given in kB, which
 /// the kernel means as KiB).
 fn parse_vm_hwm(status: &str) -> Option<u64> {

@@ -1,7 +1,9 @@
 //! `radiosity probe`: solve, then write the radiosity at given points as CSV.
 
 use super::args::ProbeArgs;
+use super::budget::{solve_settings, PROBE_BYTES_PER_TEXT_BYTE};
 use super::checks::thread_pool;
+use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
 use super::solve_cmd::{load, load_options, read_text, settings};
 use anyhow::{bail, Context, Result};
@@ -31,6 +33,10 @@ pub fn run(a: &ProbeArgs) -> Result<()> {
 }
 
 fn run_in_pool(a: &ProbeArgs, settings: &Settings) -> Result<()> {
+    // The points and their rows, counted before the file is read.
+    let text_bytes = std::fs::metadata(&a.points).map_or(0, |m| m.len());
+    let points_bytes = text_bytes.saturating_mul(PROBE_BYTES_PER_TEXT_BYTE);
+    solve_settings(settings, &[("the probe points", points_bytes)])?;
     let text = read_text(&a.points).context("reading the points file")?;
     let points = parse_points(&text).with_context(|| format!("{}", a.points.display()))?;
     let oracle = if a.exact {
@@ -43,15 +49,25 @@ fn run_in_pool(a: &ProbeArgs, settings: &Settings) -> Result<()> {
         normal_degrees: a.normal_tolerance,
     };
     tolerance.validate()?;
-    if let Some(path) = &a.output {
-        check_target(path)?;
-    }
+    let _lock = match &a.output {
+        Some(path) => {
+            check_target(path)?;
+            let mut inputs = scene_inputs(&a.scene)?;
+            inputs.push(a.points.clone());
+            refuse_overwriting_inputs(std::slice::from_ref(path), &inputs)?;
+            Some(lock_file(path)?)
+        }
+        None => None,
+    };
 
     let scene = load(&a.scene, &load_options(&a.settings.load)?)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
-    let bars = Bars::new(a.quiet);
+    let rows = points.len() as u64 * 250;
+    let settings = &solve_settings(settings, &[("the probe rows", rows)])?;
+    let bars = Bars::new(a.quiet)
+        .watching_cost(settings.hemicube_resolution, rayon::current_num_threads());
     let solution = radiosity::solve(&scene, settings, &|p| bars.update(p))
         .with_context(|| format!("solving '{}'", scene.name))?;
     bars.finish();
@@ -95,9 +111,13 @@ fn exact_oracle(scene: &str) -> Result<PenumbraSpec> {
     }
 }
 
-/// Parses `x,y,z,nx,ny,nz` lines. Blank lines are skipped; the first
-/// non-blank line is a header if it is not all numbers. Errors name the line.
+/// Parses `x,y,z,nx,ny,nz` lines. A byte-order mark (a spreadsheet's "CSV
+/// UTF-8") and blank lines are skipped; the first non-blank line is a header
+/// if none of its fields is a number, so that a first point with a typo is
+/// an error rather than a header dropped without a word. Errors name the
+/// line.
 pub fn parse_points(text: &str) -> Result<Vec<ProbePoint>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut points = Vec::new();
     let mut first = true;
     for (index, line) in text.lines().enumerate() {
@@ -106,10 +126,11 @@ pub fn parse_points(text: &str) -> Result<Vec<ProbePoint>> {
             continue;
         }
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let numbers: Option<Vec<f64>> = fields.iter().map(|f| f.parse().ok()).collect();
+        let parsed: Vec<Option<f64>> = fields.iter().map(|f| f.parse().ok()).collect();
+        let numbers: Option<Vec<f64>> = parsed.iter().copied().collect();
         let is_first = std::mem::replace(&mut first, false);
         let Some(v) = numbers else {
-            if is_first {
+            if is_first && parsed.iter().all(Option::is_none) {
                 continue;
             }
             bail!(
@@ -210,6 +231,17 @@ mod tests {
         assert!(e.to_string().contains("zero"), "{e}");
         let e = parse_points("1,2,inf,0,1,0\n").unwrap_err();
         assert!(e.to_string().contains("finite"), "{e}");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped_and_a_first_row_with_a_typo_is_an_error() {
+        let bom = parse_points("\u{feff}0.5,0,0.5,0,1,0\n0.2,0,0.2,0,1,0\n").unwrap();
+        assert_eq!(bom.len(), 2);
+        assert_eq!(bom[0].point, DVec3::new(0.5, 0.0, 0.5));
+        let header = parse_points("\u{feff}x,y,z,nx,ny,nz\n0.2,0,0.2,0,1,0\n").unwrap();
+        assert_eq!(header.len(), 1);
+        let e = parse_points("0.5,0,0.5x,0,1,0\n0.2,0,0.2,0,1,0\n").unwrap_err();
+        assert!(e.to_string().contains("line 1"), "{e}");
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! bar on a terminal, plain lines every few seconds otherwise
 //! ([`super::progress_lines`]), nothing with `--quiet`.
 
+use super::cost_watch::CostWatch;
 use super::progress_lines::{stage_name, Lines};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use radiosity::pipeline::{Progress, Stage};
@@ -16,6 +17,8 @@ pub struct Bars {
     stage: Mutex<Option<Stage>>,
     /// Plain lines instead of the bar (standard error is not a terminal).
     lines: Option<Mutex<Lines>>,
+    /// The hemi-cubes' cost, checked when the form factors begin.
+    cost: Option<CostWatch>,
 }
 
 impl Bars {
@@ -38,11 +41,28 @@ impl Bars {
             bar,
             stage: Mutex::new(None),
             lines: (!quiet && !terminal).then(|| Mutex::new(Lines::new())),
+            cost: None,
         }
+    }
+
+    /// Also warns (whatever `quiet` says) when the first pass of form
+    /// factors begins, if hemi-cubes of `resolution` on `threads` threads
+    /// cost out of proportion (see [`CostWatch`]).
+    pub fn watching_cost(mut self, resolution: usize, threads: usize) -> Self {
+        self.cost = Some(CostWatch::new(resolution, threads));
+        self
+    }
+
+    /// The cost warning given, if any.
+    pub fn cost_warning(&self) -> Option<String> {
+        self.cost.as_ref().and_then(CostWatch::warning)
     }
 
     /// Shows one progress report.
     pub fn update(&self, p: Progress) {
+        if let Some(w) = self.cost.as_ref().and_then(|c| c.observe(p)) {
+            self.bar.suspend(|| eprintln!("warning: {w}"));
+        }
         if let Some(lines) = &self.lines {
             let line = lines.lock().expect("progress lock").line(p, Instant::now());
             if let Some(line) = line {

@@ -2,6 +2,7 @@
 
 use super::args::ReferenceArgs;
 use super::checks::thread_pool;
+use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::solve_cmd::{load, load_options};
 use anyhow::Result;
 use radiosity::math::Rgb;
@@ -17,6 +18,8 @@ struct ObjectReference {
     /// Whether the object's light is mostly its own emission (more than half
     /// of its radiosity), which `compare` does not count.
     emits: bool,
+    /// Its area (m²), so that `compare` can tell another scene.
+    area: f64,
     radiosity: Rgb,
     std_error: Rgb,
     paths: u64,
@@ -68,9 +71,14 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
     };
     settings.validate()?;
     let options = load_options(&a.load)?;
-    if let Some(path) = &a.output {
-        check_target(path)?;
-    }
+    let _lock = match &a.output {
+        Some(path) => {
+            check_target(path)?;
+            refuse_overwriting_inputs(std::slice::from_ref(path), &scene_inputs(&a.scene)?)?;
+            Some(lock_file(path)?)
+        }
+        None => None,
+    };
     let scene = load(&a.scene, &options)?;
     let scene = match a.regions {
         Some(cell) => scene.regions_by_grid(cell)?,
@@ -96,6 +104,12 @@ pub fn run(a: &ReferenceArgs) -> Result<()> {
             .map(|(i, (o, m))| ObjectReference {
                 name: o.name.clone(),
                 emits: mostly_emitted(&emitted[i], &m.radiosity),
+                area: scene
+                    .surfaces
+                    .iter()
+                    .filter(|s| s.object as usize == i)
+                    .map(|s| s.area)
+                    .sum(),
                 radiosity: m.radiosity,
                 std_error: m.std_error,
                 paths: m.paths,

@@ -1,13 +1,15 @@
 //! `radiosity solve`: load, solve, render every view, write images and stats.
 
 use super::args::{ExportArgs, LoadArgs, SolveArgs, SolveSettingsArgs};
+use super::budget::{image_bytes, solve_settings};
 use super::checks::{thread_pool, time_budget};
+use super::outputs::{lock_set, output_set, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
 use super::view_args::ViewPlan;
 use super::views::{check_view_files, choose_views, write_views, Overlay};
 use anyhow::{bail, Context, Result};
 use radiosity::gltf_io::{self, ImportLimits, LoadOptions};
-use radiosity::output::{check_target, prepare_folder, Outputs};
+use radiosity::output::{check_target, prepare_folder};
 use radiosity::pipeline::{Preview, SolveStats};
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, ShadedMesh, ToneMap};
@@ -65,7 +67,14 @@ pub fn load_within(scene: &str, options: &LoadOptions, max_memory: u64) -> Resul
         options.add_daylight(&mut s);
         s
     };
-    scene.check_light()?;
+    if let Err(e) = scene.check_light() {
+        // What the import left out (a light of a type it does not know)
+        // may be why nothing gives light: say it before the refusal.
+        for w in &scene.warnings {
+            eprintln!("warning: {w}");
+        }
+        return Err(e.into());
+    }
     Ok(scene)
 }
 
@@ -267,15 +276,25 @@ fn run_in_pool(
 
     let views = choose_views(plan, &scene.cameras, || Camera::framing(&scene));
     // The file names follow the scene's name: checked now, before the solve.
-    check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
-    check_target(&a.out.join(format!("{}.json", scene.name)))?;
+    let mut files = check_view_files(views.len(), &a.view, plan, &a.out, &scene.name)?;
+    let json = a.out.join(format!("{}.json", scene.name));
+    check_target(&json)?;
+    files.push(json.clone());
+    files.extend(a.mesh_out.iter().cloned());
+    refuse_overwriting_inputs(&files, &scene_inputs(&a.scene)?)?;
+    // Held until the outputs are committed: a second run into this folder
+    // for the same scene is refused instead of mixing its files with these.
+    let _lock = lock_set(&a.out, &scene.name)?;
+    let images = image_bytes(a.view.width, a.view.height, a.mesh_out.is_some());
+    let limit = settings.max_memory;
+    let settings = &solve_settings(settings, &[("the images", images)])?;
     // Checked before the solve too: a bad cell size is known now.
     let regions = a
         .regions
         .map(|cell| scene.regions_by_grid(cell))
         .transpose()?;
 
-    let bars = Bars::new(a.quiet);
+    let bars = Bars::new(a.quiet).watching_cost(settings.hemicube_resolution, threads);
     let mut previews = PreviewWriter {
         args: a,
         scene: &scene.name,
@@ -289,12 +308,26 @@ fn run_in_pool(
         radiosity::pipeline::solve_with_previews(&scene, settings, &|p| bars.update(p), &mut |p| {
             previews.write(p)
         })
-        .with_context(|| format!("solving '{}'", scene.name))?;
+        .map_err(|e| {
+            let memory = matches!(e, radiosity::Error::Limit(_));
+            let context = if memory {
+                format!(
+                    "solving '{}' ({} of the {} --max-memory are the solve's; the rest \
+                     holds the program, the scene and the images)",
+                    scene.name,
+                    super::budget::gb(settings.max_memory),
+                    super::budget::gb(limit)
+                )
+            } else {
+                format!("solving '{}'", scene.name)
+            };
+            anyhow::Error::from(e).context(context)
+        })?;
     bars.finish();
     if let Some(e) = previews.error {
         return Err(e);
     }
-    let mut staged = Outputs::new();
+    let mut staged = output_set(&a.out, &scene.name)?;
     let written: Vec<String> = previews
         .written
         .iter()
@@ -302,6 +335,7 @@ fn run_in_pool(
         .collect();
 
     let t = Instant::now();
+    let mut view_warnings = Vec::new();
     let mesh = solution.radiance_mesh();
     let segments = if a.mesh_out.is_some() {
         solution.mesh().leaf_edges()
@@ -321,6 +355,7 @@ fn run_in_pool(
         &a.out,
         &scene.name,
         overlay,
+        &mut view_warnings,
     )?;
     outputs.extend(written);
     let render_seconds = t.elapsed().as_secs_f64();
@@ -329,8 +364,14 @@ fn run_in_pool(
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }
-    let warnings: Vec<String> = scene.warnings.iter().chain(&s.warnings).cloned().collect();
-    let json = a.out.join(format!("{}.json", scene.name));
+    let warnings: Vec<String> = scene
+        .warnings
+        .iter()
+        .chain(&s.warnings)
+        .chain(&view_warnings)
+        .chain(&bars.cost_warning())
+        .cloned()
+        .collect();
     outputs.push(json.display().to_string());
     let report = Report {
         scene: &scene.name,
@@ -450,6 +491,7 @@ impl PreviewWriter<'_> {
 pub fn export_scene(a: &ExportArgs) -> Result<()> {
     check_gltf_name(&a.output)?;
     check_target(&a.output)?;
+    let _lock = super::outputs::lock_file(&a.output)?;
     let Some(scene) = scenes::by_name(&a.name) else {
         bail!(
             "no built-in scene '{}' (built-in: {}, {})",

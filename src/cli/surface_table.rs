@@ -19,6 +19,8 @@ pub struct SurfaceRow {
     pub std_error: Option<[f64; 3]>,
     /// Whether the object emits (references only).
     pub emits: bool,
+    /// Its area in square metres, if the file gives it.
+    pub area: Option<f64>,
 }
 
 /// A checked table.
@@ -70,11 +72,19 @@ pub fn parse_table(text: &str) -> Result<SurfaceTable> {
             Some(Value::Bool(b)) => *b,
             Some(other) => bail!("{here}: 'emits' must be true or false, got {other}"),
         };
+        let area = match s.get("area") {
+            None | Some(Value::Null) => None,
+            Some(v) => match v.as_f64() {
+                Some(a) if a.is_finite() && a >= 0.0 => Some(a),
+                _ => bail!("{here}: 'area' must be a finite number >= 0, got {v}"),
+            },
+        };
         rows.push(SurfaceRow {
             name: name.to_string(),
             radiosity,
             std_error,
             emits,
+            area,
         });
     }
     Ok(SurfaceTable {
@@ -83,7 +93,10 @@ pub fn parse_table(text: &str) -> Result<SurfaceTable> {
     })
 }
 
-/// Three finite numbers >= 0, or `None` for an absent (or null) field.
+/// Three finite numbers >= 0, each 0 or a normal double, or `None` for an
+/// absent (or null) field. A subnormal value (below 2.2e-308) carries too
+/// few significant bits to measure an error against: a relative error over
+/// it overflows.
 fn bands(value: Option<&Value>) -> Result<Option<[f64; 3]>> {
     let value = match value {
         None | Some(Value::Null) => return Ok(None),
@@ -95,6 +108,13 @@ fn bands(value: Option<&Value>) -> Result<Option<[f64; 3]>> {
         .unwrap_or(None);
     match numbers.as_deref() {
         Some(&[r, g, b]) if [r, g, b].iter().all(|x| x.is_finite() && *x >= 0.0) => {
+            if let Some(x) = [r, g, b].iter().find(|x| **x != 0.0 && !x.is_normal()) {
+                bail!(
+                    "{x:e} is below {:e}, the smallest normal double: too small to measure \
+                     an error against (results are linear: scale the scene's light up)",
+                    f64::MIN_POSITIVE
+                );
+            }
             Ok(Some([r, g, b]))
         }
         // A solve writes a non-finite value as null, so null bands land here.
@@ -146,6 +166,14 @@ mod tests {
             (
                 r#"{"surfaces": [{"name": "a", "radiosity": [1, 1, 1], "emits": 1}]}"#,
                 "'emits'",
+            ),
+            (
+                r#"{"surfaces": [{"name": "a", "radiosity": [1, 1e-310, 1]}]}"#,
+                "smallest normal double",
+            ),
+            (
+                r#"{"surfaces": [{"name": "a", "radiosity": [1, 1, 1], "area": -2}]}"#,
+                "'area'",
             ),
             (
                 r#"{"surfaces": [{"name": "a", "radiosity": [1, 1, 1]}, {"name": "a", "radiosity": [1, 1, 1]}]}"#,

@@ -7,9 +7,9 @@ use anyhow::{bail, Result};
 use glam::DVec3;
 use radiosity::math::Rgb;
 use radiosity::output::{check_target, Outputs};
-use radiosity::render::{self, HdrImage, ShadedMesh};
+use radiosity::render::{self, DepthBuffer, HdrImage, ShadedMesh};
 use radiosity::scene::Camera;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The element mesh drawn over the first view into its own PNG.
 pub struct Overlay<'a> {
@@ -49,6 +49,7 @@ pub fn write_views(
     out: &Path,
     name: &str,
     overlay: Option<Overlay>,
+    warnings: &mut Vec<String>,
 ) -> Result<Vec<String>> {
     let tone = plan.tone;
     let mut names = Vec::new();
@@ -57,6 +58,10 @@ pub fn write_views(
     for (i, camera) in views.iter().enumerate() {
         let stem = view_stem(name, i);
         let (image, depth) = render::render_with_depth(mesh, camera, args.width, args.height, 2)?;
+        if let Some(w) = black_view(&stem, &image, &depth) {
+            eprintln!("warning: {w}");
+            warnings.push(w);
+        }
         let stops = *exposure.get_or_insert_with(|| render::auto_exposure(&image, tone));
         let mut write = |suffix: &str| {
             let path = out.join(format!("{stem}{suffix}"));
@@ -89,6 +94,30 @@ pub fn write_views(
     Ok(names)
 }
 
+/// A warning when the picture of view `stem` is black, saying whether the
+/// camera sees no surface or sees only unlit ones, so that a black picture
+/// is never taken for a result.
+fn black_view(stem: &str, image: &HdrImage, depth: &DepthBuffer) -> Option<String> {
+    if image.pixels.iter().any(|p| p.max_band() > 0.0) {
+        return None;
+    }
+    let total = depth.inverse_depth.len();
+    let covered = depth.inverse_depth.iter().filter(|d| **d > 0.0).count();
+    Some(if covered == 0 {
+        format!(
+            "{stem}: the picture is black: the camera sees no surface (the scene's camera, \
+             --camera or the default framing looks away from it)"
+        )
+    } else {
+        format!(
+            "{stem}: the picture is black: every surface in view is unlit ({covered} of \
+             {total} pixels show a surface); no light reaches what the camera sees (a light \
+             shut inside a closed object, a sun outside a closed room, back faces towards \
+             the camera)"
+        )
+    })
+}
+
 /// The file name stem of view `i` (from 0): NAME, then NAME_view2, ...
 fn view_stem(name: &str, i: usize) -> String {
     if i == 0 {
@@ -100,14 +129,14 @@ fn view_stem(name: &str, i: usize) -> String {
 
 /// Checks, before any rendering, that every file [`write_views`] would write
 /// for `views` views can be written (no target is a folder, the folder takes
-/// new files).
+/// new files), and returns their paths.
 pub fn check_view_files(
     views: usize,
     args: &ViewArgs,
     plan: &ViewPlan,
     out: &Path,
     name: &str,
-) -> Result<()> {
+) -> Result<Vec<PathBuf>> {
     let mut suffixes = vec![".exr", ".png"];
     if args.hdr {
         suffixes.push(".hdr");
@@ -115,13 +144,16 @@ pub fn check_view_files(
     if plan.false_colour.is_some() {
         suffixes.push("_false.png");
     }
+    let mut files = Vec::new();
     for i in 0..views {
         let stem = view_stem(name, i);
         for suffix in &suffixes {
-            check_target(&out.join(format!("{stem}{suffix}")))?;
+            let file = out.join(format!("{stem}{suffix}"));
+            check_target(&file)?;
+            files.push(file);
         }
     }
-    Ok(())
+    Ok(files)
 }
 
 /// The false-colour range of an image: its smallest and largest luminance

@@ -10,11 +10,10 @@
 
 use super::document::Document;
 use super::nodes::Placed;
-use super::precise::{number, numbers};
 use super::{describe, gltf_error};
 use crate::error::{Error, Result};
 use crate::math::Rgb;
-use crate::scene::{Light, LightKind};
+use crate::scene::{merge_coincident_lights, Light, LightKind};
 use glam::DVec3;
 use serde_json::Value;
 use std::f64::consts::FRAC_PI_4;
@@ -22,6 +21,10 @@ use std::path::Path;
 
 /// The extension's name.
 pub(super) const EXTENSION: &str = "KHR_lights_punctual";
+
+/// More distinct lights than this are named in a warning at load, before
+/// the work: each costs a shadow ray per sample point.
+const MANY_LIGHTS: usize = 256;
 
 /// Every light placed by a node of `placed`, in the walk's order. Values out
 /// of range are an error naming the file, the light and its node; unknown
@@ -61,32 +64,43 @@ pub(super) fn placed_lights(
             ));
         };
         used[i] = true;
-        let base = format!("/extensions/{EXTENSION}/lights/{i}");
         let light_name = defined[i].get("name").and_then(Value::as_str);
         let what = format!("{} of {node}", describe("light", i, light_name));
-        let kind = match defined[i].get("type").and_then(Value::as_str) {
-            Some("point") => LightKind::Point,
-            Some("directional") => LightKind::Directional,
-            Some("spot") => LightKind::Spot {
-                inner_cone: number(&doc.raw, &format!("{base}/spot/innerConeAngle")).unwrap_or(0.0),
-                outer_cone: number(&doc.raw, &format!("{base}/spot/outerConeAngle"))
-                    .unwrap_or(FRAC_PI_4),
+        let field = |name: &'static str| Field {
+            path,
+            what: &what,
+            value: defined[i].pointer(name),
+            name,
+        };
+        let kind = match defined[i].get("type") {
+            Some(Value::String(t)) if t == "point" => LightKind::Point,
+            Some(Value::String(t)) if t == "directional" => LightKind::Directional,
+            Some(Value::String(t)) if t == "spot" => LightKind::Spot {
+                inner_cone: field("/spot/innerConeAngle").number()?.unwrap_or(0.0),
+                outer_cone: field("/spot/outerConeAngle").number()?.unwrap_or(FRAC_PI_4),
             },
-            other => {
-                unknown.push(format!(
-                    "{what}: type {}",
-                    other.map_or_else(|| "missing".to_string(), |t| format!("'{t}'"))
-                ));
+            Some(Value::String(t)) => {
+                unknown.push(format!("{what}: type '{t}'"));
+                continue;
+            }
+            Some(other) => {
+                return Err(gltf_error(
+                    path,
+                    format!("{what}: \"type\" must be a string, got {other}"),
+                ))
+            }
+            None => {
+                unknown.push(format!("{what}: type missing"));
                 continue;
             }
         };
-        let colour = numbers::<3>(&doc.raw, &format!("{base}/color")).unwrap_or([1.0; 3]);
+        let colour = field("/color").numbers::<3>()?.unwrap_or([1.0; 3]);
         let light = Light {
             name: what.clone(),
             kind,
             colour: Rgb(colour),
-            intensity: number(&doc.raw, &format!("{base}/intensity")).unwrap_or(1.0),
-            range: number(&doc.raw, &format!("{base}/range")),
+            intensity: field("/intensity").number()?.unwrap_or(1.0),
+            range: field("/range").number()?,
             position: p.world.transform_point3(DVec3::ZERO),
             direction: p.world.transform_vector3(DVec3::NEG_Z).normalize_or_zero(),
         };
@@ -95,6 +109,31 @@ pub(super) fn placed_lights(
             other => other,
         })?;
         out.push(light);
+    }
+    let (out, merged) = merge_coincident_lights(out);
+    if merged > 0 {
+        for light in &out {
+            // Summed, a group can pass what each light kept to.
+            light
+                .validate()
+                .map_err(|e| gltf_error(path, e.to_string()))?;
+        }
+        warnings.push(format!(
+            "{merged} {EXTENSION} lights lie exactly where another of the same kind, \
+             direction, range and cones does, and were merged into it: their power adds, \
+             so the light is the same and its cost {:.0} times less",
+            (merged + out.len()) as f64 / out.len() as f64
+        ));
+    }
+    if out.len() > MANY_LIGHTS {
+        warnings.push(format!(
+            "{} distinct {EXTENSION} lights: the direct light casts a shadow ray from every \
+             sample point of every element to each of them, so it costs {} times what one \
+             light does (an emissive surface of the same total power is solved by the \
+             hemi-cubes instead)",
+            out.len(),
+            out.len()
+        ));
     }
     if !unknown.is_empty() {
         warnings.push(format!(
@@ -118,4 +157,57 @@ pub(super) fn placed_lights(
         ));
     }
     Ok(out)
+}
+
+/// One field of a light definition, read strictly: absent is the
+/// extension's default, but a value of the wrong type (`"intensity":
+/// "1000"`, `"color": "red"`) is an error naming the light and the field,
+/// never quietly the default.
+struct Field<'a> {
+    path: &'a Path,
+    what: &'a str,
+    value: Option<&'a Value>,
+    name: &'a str,
+}
+
+impl Field<'_> {
+    /// The field's name as the file spells it (`spot.innerConeAngle`).
+    fn shown(&self) -> String {
+        self.name.trim_start_matches('/').replace('/', ".")
+    }
+
+    fn wrong(&self, expected: &str) -> Error {
+        let got = self.value.map_or_else(String::new, Value::to_string);
+        gltf_error(
+            self.path,
+            format!(
+                "{}: \"{}\" must be {expected}, got {got}",
+                self.what,
+                self.shown()
+            ),
+        )
+    }
+
+    /// A number, or `None` when the field is absent.
+    fn number(&self) -> Result<Option<f64>> {
+        match self.value {
+            None => Ok(None),
+            Some(v) => v.as_f64().map(Some).ok_or_else(|| self.wrong("a number")),
+        }
+    }
+
+    /// An array of exactly `N` numbers, or `None` when the field is absent.
+    fn numbers<const N: usize>(&self) -> Result<Option<[f64; N]>> {
+        let Some(v) = self.value else {
+            return Ok(None);
+        };
+        let expected = format!("an array of {N} numbers");
+        let items = v.as_array().filter(|a| a.len() == N);
+        let items = items.ok_or_else(|| self.wrong(&expected))?;
+        let mut out = [0.0; N];
+        for (slot, item) in out.iter_mut().zip(items) {
+            *slot = item.as_f64().ok_or_else(|| self.wrong(&expected))?;
+        }
+        Ok(Some(out))
+    }
 }

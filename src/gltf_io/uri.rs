@@ -54,8 +54,15 @@ pub(super) fn resolve(uri: &str, folder: &Path, limits: &ImportLimits) -> Result
     }
     let mut target = folder.to_path_buf();
     target.extend(&parts);
-    // A symbolic link inside the folder could still point outside it.
-    if let (Ok(real_folder), Ok(real_target)) = (folder.canonicalize(), target.canonicalize()) {
+    // A symbolic link inside the folder could still point outside it. A
+    // scene named without a folder has the folder "", which names no file
+    // to canonicalise: the current folder is meant.
+    let here = if folder.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        folder
+    };
+    if let (Ok(real_folder), Ok(real_target)) = (here.canonicalize(), target.canonicalize()) {
         if !real_target.starts_with(&real_folder) {
             return Err(format!(
                 "'{decoded}' leads out of the scene file's folder (through a symbolic link)"

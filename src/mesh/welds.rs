@@ -179,7 +179,10 @@ mod tests {
     fn facets_of_one_object_meeting_at_a_small_angle_share_their_corners() {
         // Equal areas lit 1 and 3: one mean, 2, on both.
         let (a, b) = at_origin(&hinge(20.0, true));
-        assert!((a.0[0] - 2.0).abs() < 1e-12 && (b.0[0] - 2.0).abs() < 1e-12, "{a:?} {b:?}");
+        assert!(
+            (a.0[0] - 2.0).abs() < 1e-12 && (b.0[0] - 2.0).abs() < 1e-12,
+            "{a:?} {b:?}"
+        );
     }
 
     #[test]

@@ -25,20 +25,82 @@ struct Staged {
     temp: PathBuf,
 }
 
-/// The files of one run. [`stage`](Outputs::stage) writes each to a temporary
-/// file beside its target; [`commit`](Outputs::commit) renames them all into
-/// place. Dropping the set without committing removes its temporaries and
-/// leaves every target as it was.
-#[derive(Debug, Default)]
+/// The files of one run. [`stage`](Outputs::stage) writes each where it
+/// waits for the commit; [`commit`](Outputs::commit) makes them all visible.
+/// Dropping the set without committing removes what it staged and leaves
+/// every target as it was.
+///
+/// [`Outputs::new`] stages each file beside its target and renames them one
+/// by one: each file is replaced whole, and a failure before the commit
+/// changes none. [`Outputs::set`] (on Unix) stages them into a version
+/// folder and swaps the whole set in one rename, so that even a process
+/// killed during the commit leaves the previous set or the new one, never a
+/// mix (see [`crate::output`]).
+#[derive(Default)]
 pub struct Outputs {
     staged: Vec<Staged>,
+    #[cfg(unix)]
+    set: Option<super::set::VersionedSet>,
+    hook: Option<StepHook>,
+}
+
+/// Called before each step of a commit, with what the step does.
+pub type StepHook = Box<dyn FnMut(&str) + Send>;
+
+impl std::fmt::Debug for Outputs {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut d = f.debug_struct("Outputs");
+        d.field("staged", &self.staged);
+        #[cfg(unix)]
+        d.field("set", &self.set);
+        d.finish_non_exhaustive()
+    }
 }
 
 impl Outputs {
-    /// An empty set.
+    /// An empty set whose files are staged beside their targets.
     #[must_use]
     pub fn new() -> Self {
         Outputs::default()
+    }
+
+    /// An empty set of outputs called `name` (a scene's name, say), anchored
+    /// in `folder` (created if missing): its files are staged in a hidden
+    /// version folder there, and the names the caller gives become links
+    /// into it, all swapped at once by the commit. Hold an
+    /// [`OutputLock`](super::OutputLock) on the same folder and name from
+    /// before the work until the commit, so that no other run writes the
+    /// set meanwhile. Elsewhere than on Unix, the same as [`Outputs::new`].
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] when the folder or the version folder cannot be made;
+    /// [`Error::Output`] for a name that cannot name files.
+    pub fn set(folder: &Path, name: &str) -> Result<Self> {
+        #[cfg(unix)]
+        {
+            Ok(Outputs {
+                staged: Vec::new(),
+                set: Some(super::set::VersionedSet::new(folder, name)?),
+                hook: None,
+            })
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = (folder, name);
+            Ok(Outputs::default())
+        }
+    }
+
+    /// Calls `hook` before each step of the commit with what the step does
+    /// (for tests that stop a commit at every step; not needed otherwise).
+    pub fn on_commit_step(&mut self, hook: impl FnMut(&str) + Send + 'static) {
+        #[cfg(unix)]
+        if let Some(set) = &mut self.set {
+            set.hook = Some(Box::new(hook));
+            return;
+        }
+        self.hook = Some(Box::new(hook));
     }
 
     /// Writes the file `path` through `write` into a temporary file in the same
@@ -56,6 +118,10 @@ impl Outputs {
         path: &Path,
         write: impl FnOnce(&mut dyn WriteSeek) -> Result<()>,
     ) -> Result<()> {
+        #[cfg(unix)]
+        if let Some(set) = &mut self.set {
+            return set.stage(path, write);
+        }
         let target = writable_target(path)?;
         if self.staged.iter().any(|s| s.target == target) {
             return Err(Error::Output {
@@ -92,8 +158,12 @@ impl Outputs {
     }
 
     /// The files staged so far, as their callers named them.
-    pub fn paths(&self) -> impl Iterator<Item = &Path> {
-        self.staged.iter().map(|s| s.shown.as_path())
+    pub fn paths(&self) -> Vec<&Path> {
+        #[cfg(unix)]
+        if let Some(set) = &self.set {
+            return set.paths().collect();
+        }
+        self.staged.iter().map(|s| s.shown.as_path()).collect()
     }
 
     /// Renames every staged file over its target, in the order staged, and
@@ -109,6 +179,11 @@ impl Outputs {
     /// the message then lists the files already replaced. The remaining
     /// temporaries are removed.
     pub fn commit(mut self) -> Result<Vec<PathBuf>> {
+        #[cfg(unix)]
+        if let Some(set) = self.set.take() {
+            return set.commit();
+        }
+        let _guard = super::pending::commit_guard();
         for s in &self.staged {
             writable_target(&s.shown)?;
         }
@@ -116,10 +191,16 @@ impl Outputs {
         let staged = std::mem::take(&mut self.staged);
         let mut rest = staged.into_iter();
         while let Some(s) = rest.next() {
-            if let Err(e) = std::fs::rename(&s.temp, &s.target) {
+            if let Some(hook) = &mut self.hook {
+                hook(&format!("rename {}", s.shown.display()));
+            }
+            let renamed = std::fs::rename(&s.temp, &s.target);
+            super::pending::forget(&s.temp);
+            if let Err(e) = renamed {
                 let _ = std::fs::remove_file(&s.temp);
                 for later in rest {
                     let _ = std::fs::remove_file(&later.temp);
+                    super::pending::forget(&later.temp);
                 }
                 let replaced = if done.is_empty() {
                     "no file was replaced".to_string()
@@ -142,6 +223,7 @@ impl Drop for Outputs {
     fn drop(&mut self) {
         for s in &self.staged {
             let _ = std::fs::remove_file(&s.temp);
+            super::pending::forget(&s.temp);
         }
     }
 }
@@ -225,7 +307,10 @@ impl Temporary {
         loop {
             let n = COUNTER.fetch_add(1, Ordering::Relaxed);
             let path = folder.join(format!(".{short}.{}-{n}.tmp", std::process::id()));
-            match OpenOptions::new().write(true).create_new(true).open(&path) {
+            let opened = super::pending::create(&path, |p| {
+                OpenOptions::new().write(true).create_new(true).open(p)
+            });
+            match opened {
                 Ok(file) => {
                     return Ok(Temporary {
                         path,
@@ -233,7 +318,7 @@ impl Temporary {
                         kept: false,
                     })
                 }
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
                 Err(e) => return Err(e),
             }
         }
@@ -250,6 +335,7 @@ impl Drop for Temporary {
     fn drop(&mut self) {
         if !self.kept {
             let _ = std::fs::remove_file(&self.path);
+            super::pending::forget(&self.path);
         }
     }
 }

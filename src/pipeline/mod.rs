@@ -7,6 +7,7 @@
 //! the solver brings its solution up to the new mesh.
 
 mod gathering;
+mod light_checks;
 mod memory;
 mod progress;
 mod row_groups;
@@ -60,20 +61,27 @@ pub fn solve_with_previews(
 ) -> Result<Solution> {
     let mut ws = Workspace::prepare(scene, settings, progress)?;
     match settings.solver_kind {
-        SolverKind::GaussSeidel => {
-            let solver = Gathering::start(&mut ws)?;
-            drive(ws, solver)
-        }
-        SolverKind::Progressive => {
-            let solver = Shooting::start(&mut ws, Some(preview))?;
-            drive(ws, solver)
-        }
+        SolverKind::GaussSeidel => match Gathering::start(&mut ws) {
+            Ok(solver) => drive(ws, solver),
+            Err(e) => Err(ws.explain(e)),
+        },
+        SolverKind::Progressive => match Shooting::start(&mut ws, Some(preview)) {
+            Ok(solver) => drive(ws, solver),
+            Err(e) => Err(ws.explain(e)),
+        },
     }
 }
 
 /// Runs `solver` to the end: refinement passes whenever it asks for one.
 fn drive(mut ws: Workspace<'_>, mut solver: impl Solver) -> Result<Solution> {
-    while solver.advance(&mut ws)? == Next::Refine {
+    loop {
+        match solver.advance(&mut ws) {
+            Ok(Next::Refine) => {}
+            Ok(_) => break,
+            // A light whose irradiance overflows makes the solver diverge:
+            // name the light instead.
+            Err(e) => return Err(ws.explain(e)),
+        }
         let t_pass = Instant::now();
         let marks = ws.mark();
         let unshared = ws.unshare_groups();
@@ -89,7 +97,10 @@ fn drive(mut ws: Workspace<'_>, mut solver: impl Solver) -> Result<Solution> {
                 .into_iter()
                 .filter(|&k| ws.mesh.elements[k].is_leaf()),
         );
-        let new_hemicubes = solver.refined(&mut ws, &fresh, pass)?;
+        let new_hemicubes = match solver.refined(&mut ws, &fresh, pass) {
+            Ok(n) => n,
+            Err(e) => return Err(ws.explain(e)),
+        };
         ws.stats.passes.push(PassStats {
             pass,
             split: marks.split.len(),
@@ -101,5 +112,7 @@ fn drive(mut ws: Workspace<'_>, mut solver: impl Solver) -> Result<Solution> {
             blocked: marks.blocked,
         });
     }
+    let candidates = std::mem::take(&mut ws.dark_candidates);
+    ws.warn_dark_lights(&candidates);
     Ok(solver.finish(ws))
 }

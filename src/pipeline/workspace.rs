@@ -45,6 +45,9 @@ pub(crate) struct Workspace<'a> {
     pub scale: EmissionScale,
     /// Facets of face clusters that share one row.
     pub row_groups: RowGroups,
+    /// Punctual lights that reached no leaf of the first mesh, looked at
+    /// again on the final one (see `light_checks`).
+    pub dark_candidates: Vec<usize>,
 }
 
 impl<'a> Workspace<'a> {
@@ -92,14 +95,16 @@ impl<'a> Workspace<'a> {
             )),
             e => e,
         })?;
-        let patch_size = settings.patch_size_for(scene);
-        split_uniformly(
-            &mut mesh,
-            refine.uniform_depth.unwrap_or(refine.initial_depth),
-            refine.max_elements,
-            refine.uniform_depth.is_none().then_some(patch_size),
-        )?;
-        memory::check_fits(&mesh, settings.max_memory)?;
+        let depth = refine.uniform_depth.unwrap_or(refine.initial_depth);
+        let adaptive = refine
+            .uniform_depth
+            .is_none()
+            .then(|| settings.patch_size_for(scene));
+        let splits = initial_splits(&mesh, depth, adaptive);
+        // Checked before the split allocates what it would not hold.
+        let needs = memory::needs_at_depth(&mesh, depth, &splits, settings);
+        memory::check_needs(&needs, depth, settings.max_memory)?;
+        split_uniformly(&mut mesh, depth, refine.max_elements, &splits)?;
         let mut stats = SolveStats::default();
         let scale = EmissionScale::normalise(&mut mesh, scene, &mut stats.warnings);
         stats.seconds.mesh = t.elapsed().as_secs_f64();
@@ -131,8 +136,14 @@ impl<'a> Workspace<'a> {
             direct: (!scene.lights.is_empty() || scene.sky.is_some()).then(DirectLight::default),
             scale,
             row_groups,
+            dark_candidates: Vec::new(),
         };
         ws.update_direct();
+        if let Some(e) = ws.overflowing_light() {
+            return Err(e);
+        }
+        let all: Vec<usize> = (0..scene.lights.len()).collect();
+        ws.dark_candidates = ws.dark_lights(&all);
         Ok(ws)
     }
 
@@ -332,7 +343,12 @@ impl<'a> Workspace<'a> {
         let rows = self.form_factors.row_bytes();
         let leaves = self.mesh.leaf_count().max(1) as f64;
         let per_leaf = memory::leaf_bytes() as f64 + rows as f64 / leaves;
-        let used = memory::held(&self.mesh, rows as u64);
+        let hemicubes = memory::hemicube_bytes(
+            self.settings.hemicube_resolution,
+            self.mesh.patches().len(),
+            rayon::current_num_threads(),
+        );
+        let used = memory::held(&self.mesh, rows as u64) + hemicubes as u64;
         memory::leaves_that_fit(self.settings.max_memory, used, per_leaf)
     }
 
@@ -441,43 +457,45 @@ impl Workspace<'_> {
     }
 }
 
-/// Splits every patch to `depth`, failing if that would exceed `max_elements`.
+/// Per patch of `mesh`, whether the initial split takes its roots down to
+/// `depth`.
 ///
-/// With `adaptive` (the patch size of an adaptive solve), two kinds of patch
-/// are left whole, being as fine as the initial depth aims for already: the
-/// roots of face clusters (a cluster's surfaces divide it into elements,
-/// each smaller than the patch), and the patches of a surface cut finer than
-/// a patch halved `depth` times to place its emissive texture's light (see
-/// `crate::mesh`'s emission grid). Splitting them would multiply the rows
-/// of a finely tessellated scene by four where nothing yet says the light
-/// changes: a lamp of 6 000 triangles whose emissive texture cut 1 249 of
-/// them into 6 451 patches took 30 000 rows in its first pass. A uniform
-/// solve (`None`) splits everything.
+/// A uniform solve (`adaptive` `None`) splits every patch. An adaptive one
+/// (`adaptive` the patch size) leaves whole the patches that are as fine as
+/// the initial depth aims for already: the roots of face clusters (a
+/// cluster's surfaces divide it into elements, each smaller than the patch);
+/// the patches of a surface cut finer than a patch halved `depth` times to
+/// place its emissive texture's light (see `crate::mesh`'s emission grid);
+/// and small facets (see [`SMALL_FACET`]). Splitting them would multiply the
+/// rows of a finely tessellated scene by four where nothing yet says the
+/// light changes: a lamp of 6 000 triangles whose emissive texture cut
+/// 1 249 of them into 6 451 patches took 30 000 rows in its first pass.
+pub(crate) fn initial_splits(mesh: &Mesh, depth: u8, adaptive: Option<f64>) -> Vec<bool> {
+    let target = adaptive.map(|size| size / f64::from(1u32 << depth.min(30)));
+    mesh.patches
+        .iter()
+        .map(|p| match target {
+            None => true,
+            Some(target) => {
+                let lattice = &mesh.surfaces[p.surface as usize];
+                !p.is_cluster()
+                    && lattice.patch_size > target * (1.0 + 1e-9)
+                    && longest_edge(&p.polygon) >= SMALL_FACET * target
+            }
+        })
+        .collect()
+}
+
+/// Splits the roots of every patch that `splits` marks (see
+/// [`initial_splits`]) to `depth`, failing if that would exceed
+/// `max_elements`.
 pub(crate) fn split_uniformly(
     mesh: &mut Mesh,
     depth: u8,
     max_elements: usize,
-    adaptive: Option<f64>,
+    splits: &[bool],
 ) -> Result<()> {
-    let target = adaptive.map(|size| size / f64::from(1u32 << depth.min(30)));
-    let splits = |p: &crate::mesh::Patch| match target {
-        None => true,
-        Some(target) => {
-            !p.is_cluster() && mesh.surfaces[p.surface as usize].patch_size > target * (1.0 + 1e-9)
-        }
-    };
-    let leaves: f64 = mesh
-        .patches
-        .iter()
-        .map(|p| {
-            let per_root = if splits(p) {
-                4f64.powi(i32::from(depth))
-            } else {
-                1.0
-            };
-            p.roots.len() as f64 * per_root
-        })
-        .sum();
+    let leaves = super::memory::leaves_at_depth(mesh, depth, splits);
     if leaves > max_elements as f64 {
         return Err(Error::Limit(format!(
             "{} patches split to depth {depth} give {leaves} elements, more than the \
@@ -485,14 +503,29 @@ pub(crate) fn split_uniformly(
             mesh.patches.len()
         )));
     }
-    let split: Vec<bool> = mesh.patches.iter().map(splits).collect();
     for k in mesh.leaves() {
-        if split[mesh.elements[k].patch as usize] {
+        if splits[mesh.elements[k].patch as usize] {
             let top = mesh.elements[k].depth;
             split_to_depth(mesh, k, top + depth);
         }
     }
     Ok(())
+}
+
+/// A patch whose longest edge is below this fraction of the initial
+/// elements' size is left whole like a face cluster's facets: a small facet
+/// of a real mesh that joined no cluster (its neighbours wound the other way,
+/// or bent too far) is finer than the elements already. (A surface a few
+/// tenths of a patch across, such as a pier's face under large patches, is
+/// split as before: its shaped gathers need the elements.)
+const SMALL_FACET: f64 = 0.5;
+
+/// The longest edge of a polygon.
+fn longest_edge(polygon: &[glam::DVec3]) -> f64 {
+    let n = polygon.len();
+    (0..n)
+        .map(|i| (polygon[(i + 1) % n] - polygon[i]).length())
+        .fold(0.0, f64::max)
 }
 
 /// Splits leaf `k` and its descendants down to tree depth `depth`.

@@ -134,6 +134,16 @@ impl RefineSettings {
             .uniform_depth
             .unwrap_or(self.max_depth)
             .max(self.initial_depth);
+        if self.uniform_depth.is_none() && self.initial_depth > self.max_depth {
+            return bad(
+                "initial-depth",
+                format!(
+                    "{} is deeper than the max-depth {}: refinement could never split below \
+                     it, and the elements it makes are deeper than allowed",
+                    self.initial_depth, self.max_depth
+                ),
+            );
+        }
         if deepest > crate::mesh::MAX_DEPTH {
             return bad(
                 "max-depth",

@@ -142,17 +142,35 @@ fn rgb8_png(rgb: &RgbImage, path: &Path, w: &mut dyn WriteSeek) -> Result<()> {
 /// linear image. An alpha channel, if any, is dropped.
 pub fn read_hdr_image(path: &Path) -> Result<HdrImage> {
     let file = open_regular(path)?;
-    let decoded = image::ImageReader::new(BufReader::new(file))
+    let reader = image::ImageReader::new(BufReader::new(file))
         .with_guessed_format()
-        .map_err(|e| Error::io(path, e))?
-        .decode()
-        .map_err(|e| match e {
-            ImageError::IoError(io) => Error::io(path, io),
-            other => Error::io(
-                path,
-                std::io::Error::new(std::io::ErrorKind::InvalidData, other.to_string()),
-            ),
-        })?;
+        .map_err(|e| Error::io(path, e))?;
+    // A PNG or JPEG holds display colours (tone-mapped, 8-bit, sRGB), not
+    // radiance: measured as if it were, every figure would be wrong.
+    match reader.format() {
+        Some(ImageFormat::OpenExr | ImageFormat::Hdr) | None => {}
+        Some(other) => {
+            return Err(Error::Output {
+                path: path.to_path_buf(),
+                message: format!(
+                    "this is a {} image: display colours, not linear radiance; give the \
+                     OpenEXR (.exr) or Radiance HDR (.hdr) file",
+                    other
+                        .extensions_str()
+                        .first()
+                        .unwrap_or(&"non-HDR")
+                        .to_uppercase()
+                ),
+            })
+        }
+    }
+    let decoded = reader.decode().map_err(|e| match e {
+        ImageError::IoError(io) => Error::io(path, io),
+        other => Error::io(
+            path,
+            std::io::Error::new(std::io::ErrorKind::InvalidData, other.to_string()),
+        ),
+    })?;
     let rgb = decoded.into_rgb32f();
     let (width, height) = rgb.dimensions();
     let pixels = rgb.pixels().map(|p| Rgb(p.0.map(f64::from))).collect();
@@ -180,10 +198,37 @@ fn check_size(img: &HdrImage, path: &Path) -> Result<()> {
 
 fn to_f32_buffer(img: &HdrImage, path: &Path) -> Result<Rgb32FImage> {
     check_size(img, path)?;
+    check_single_precision(img, path)?;
     let data = img.pixels.iter().flat_map(|p| p.to_f32()).collect();
     Rgb32FImage::from_raw(img.width, img.height, data).ok_or_else(|| Error::Output {
         path: path.to_path_buf(),
         message: "pixel buffer does not match the image size".to_string(),
+    })
+}
+
+/// Refuses an image with a value a 32-bit float cannot hold (beyond 3.4e38,
+/// or not finite), which the file would store as infinity without a word.
+fn check_single_precision(img: &HdrImage, path: &Path) -> Result<()> {
+    let limit = f64::from(f32::MAX);
+    let bad = img
+        .pixels
+        .iter()
+        .position(|p| p.0.iter().any(|v| !(v.is_finite() && v.abs() <= limit)));
+    let Some(i) = bad else {
+        return Ok(());
+    };
+    let w = img.width.max(1) as usize;
+    Err(Error::Output {
+        path: path.to_path_buf(),
+        message: format!(
+            "pixel ({}, {}) has radiance {:?}, beyond the largest value a 32-bit image file \
+             holds ({:e}); results are linear in light, so scale the scene's emission and \
+             lights down by one factor",
+            i % w,
+            i / w,
+            img.pixels[i].0,
+            f32::MAX
+        ),
     })
 }
 

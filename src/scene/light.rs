@@ -171,6 +171,39 @@ impl Light {
                 self.colour.0
             )));
         }
+        // The ends of floating point, as for emission: a subnormal value has
+        // too few significant bits (1e-310 cd gave an all-white picture), and
+        // a light beyond single precision (the most an emissive strength can
+        // be) makes radiosities no image file holds (3.4e38 cd gave an EXR
+        // of infinities).
+        let values = [
+            self.intensity,
+            self.colour[0],
+            self.colour[1],
+            self.colour[2],
+        ];
+        if values.iter().any(|v| *v != 0.0 && !v.is_normal()) {
+            return Err(err(format!(
+                "intensity {:e} or colour {:?} is below {:e}, the smallest normal double: too \
+                 small to be represented; results are linear in light, so scale every light \
+                 and emission of the scene up by the same factor",
+                self.intensity,
+                self.colour.0,
+                f64::MIN_POSITIVE
+            )));
+        }
+        let strongest = self.intensity * self.colour.max_band();
+        if strongest.max(self.intensity) > f64::from(f32::MAX) {
+            return Err(err(format!(
+                "intensity {:e} times colour {:?} is above {:e}, the largest single-precision \
+                 number (the most an emissive strength can be, and more than an image file \
+                 holds); results are linear in light, so scale every light and emission of \
+                 the scene down by the same factor",
+                self.intensity,
+                self.colour.0,
+                f32::MAX
+            )));
+        }
         if let Some(range) = self.range {
             if !(range.is_finite() && range > 0.0) {
                 return Err(err(format!(
@@ -317,5 +350,22 @@ mod tests {
         };
         let e = l.validate().unwrap_err().to_string();
         assert!(e.contains("innerConeAngle"), "{e}");
+    }
+
+    #[test]
+    fn intensities_at_the_ends_of_floating_point_are_refused() {
+        let light = |intensity: f64, colour: f64| {
+            Light::point("lamp", DVec3::ZERO, Rgb::splat(colour), intensity).validate()
+        };
+        for (intensity, colour) in [(1e-310, 1.0), (1.0, 1e-320), (3.5e38, 1.0), (1e20, 1e19)] {
+            let e = light(intensity, colour).unwrap_err().to_string();
+            assert!(e.contains("lamp") && e.contains("the same factor"), "{e}");
+        }
+        // The smallest normal and the largest single-precision values pass,
+        // as does a light of colour 0.
+        assert!(light(f64::MIN_POSITIVE, 1.0).is_ok());
+        assert!(light(f64::from(f32::MAX), 1.0).is_ok());
+        assert!(light(1e300, 0.0).is_err());
+        assert!(light(1.0, 0.0).is_ok());
     }
 }

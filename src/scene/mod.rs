@@ -6,6 +6,7 @@
 
 mod builder;
 mod camera;
+mod coincident_lights;
 mod extent;
 mod facing;
 mod framing;
@@ -21,6 +22,7 @@ mod texture;
 
 pub use builder::SceneBuilder;
 pub use camera::Camera;
+pub use coincident_lights::merge_coincident_lights;
 pub use extent::Outliers;
 pub(crate) use facing::facing_warnings;
 pub use light::{range_window, spot_falloff, Incident, Light, LightKind, Target};

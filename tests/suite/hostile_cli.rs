@@ -123,9 +123,10 @@ fn outputs_whose_target_is_a_folder_are_refused_before_the_solve() {
     assert_refused(&args, "cornell_box.json");
 }
 
-/// Runs the binary with writes limited to `bytes` per file (SIGXFSZ ignored,
-/// so an over-long write fails with EFBIG instead of killing the process):
-/// the disk-full and file-size-limit case, part way through a file.
+/// Runs the binary with writes limited to `bytes` per file: the disk-full
+/// and file-size-limit case, part way through a file. SIGXFSZ keeps its
+/// default action (death without a word) here: the binary itself ignores
+/// it, so that the write fails with EFBIG and the run ends with a message.
 #[cfg(unix)]
 fn radiosity_with_file_limit(args: &[&str], bytes: u64) -> Output {
     use std::os::unix::process::CommandExt;
@@ -135,7 +136,7 @@ fn radiosity_with_file_limit(args: &[&str], bytes: u64) -> Output {
     // functions signal(2) and setrlimit(2).
     unsafe {
         command.pre_exec(move || {
-            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            libc::signal(libc::SIGXFSZ, libc::SIG_DFL);
             let limit = libc::rlimit {
                 rlim_cur: bytes as libc::rlim_t,
                 rlim_max: bytes as libc::rlim_t,
@@ -149,10 +150,21 @@ fn radiosity_with_file_limit(args: &[&str], bytes: u64) -> Output {
     command.output().expect("the radiosity binary runs")
 }
 
-/// Every file in `dir` with its bytes, sorted by name.
-fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
+/// Every file in `dir` with its bytes, sorted by name, except the pointer
+/// and version folders of sets of outputs (`.NAME.outputs*`), which hold
+/// what the names show; temporaries and lock files count.
+pub fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
         .unwrap()
+        .filter(|e| {
+            let name = e
+                .as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .into_owned();
+            !(name.starts_with('.') && (name.ends_with(".outputs") || name.contains(".outputs-")))
+        })
         .map(|e| {
             let e = e.unwrap();
             (
@@ -193,30 +205,35 @@ fn a_resolve_that_fails_mid_write_leaves_every_previous_output_unchanged() {
 
 #[cfg(unix)]
 #[test]
-fn bake_over_its_own_input_works_and_a_failed_bake_keeps_the_input() {
+fn bake_over_its_own_input_is_refused_and_a_failed_bake_keeps_the_previous_file() {
     let dir = folder("bake_in_place");
     let scene = dir.join("room.glb");
     let out = radiosity(&["export-scene", "cornell_box", "-o", s(&scene)]);
     assert!(out.status.success(), "{}", stderr(&out));
     let exported = std::fs::read(&scene).unwrap();
-    // Cut off part way: the bake is larger than this.
-    let limit = 4096;
+    // Over its own input: refused before the solve, the input untouched.
     let mut bake = vec!["bake", s(&scene), "-o", s(&scene), "--quiet"];
+    bake.extend(QUICK);
+    let text = assert_refused(&bake, "is an input of this command");
+    assert!(text.contains("room.glb"), "{text}");
+    assert_eq!(std::fs::read(&scene).unwrap(), exported);
+    // Cut off part way: the bake is larger than this; the previous baked
+    // file stays as it was.
+    let baked_path = dir.join("baked.glb");
+    std::fs::write(&baked_path, b"the previous bake").unwrap();
+    let limit = 4096;
+    let mut bake = vec!["bake", s(&scene), "-o", s(&baked_path), "--quiet"];
     bake.extend(QUICK);
     let out = radiosity_with_file_limit(&bake, limit);
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
-    assert_eq!(
-        std::fs::read(&scene).unwrap(),
-        exported,
-        "the input was damaged"
-    );
-    assert_eq!(snapshot(&dir).len(), 1, "a temporary was left behind");
-    // Without a limit the bake replaces its own input with the baked file.
+    assert_eq!(std::fs::read(&baked_path).unwrap(), b"the previous bake");
+    assert_eq!(snapshot(&dir).len(), 2, "a temporary was left behind");
+    // Without a limit the bake replaces the previous baked file.
     let out = radiosity(&bake);
     assert!(out.status.success(), "{}", stderr(&out));
-    let baked = std::fs::read(&scene).unwrap();
+    let baked = std::fs::read(&baked_path).unwrap();
     assert!(baked.len() as u64 > limit, "the limit did not cut the bake");
-    let loaded = radiosity::gltf_io::load_baked(&scene, &Default::default()).unwrap();
+    let loaded = radiosity::gltf_io::load_baked(&baked_path, &Default::default()).unwrap();
     assert!(!loaded.mesh.triangles.is_empty());
 }
 

@@ -54,28 +54,76 @@ pub(super) fn apply(scene: &mut Scene, found: &Found) -> Outcome {
 
 /// The pieces of `lower` outside every one of `uppers`, as surfaces of its
 /// material and object.
+///
+/// Each piece is cut only by the cutters that reach it. Cutting every
+/// piece by every cutter in turn (a piece far from a cutter still split
+/// along the lines of its edges) made the pieces grow with the cutters and
+/// cost their product: 4 000 decals on one floor took 15 s. Here a piece
+/// is cut by the first of its cutters, and each resulting piece goes on with
+/// those of the later cutters whose bounds meet its own; a piece no later
+/// cutter reaches is done. The pieces are taken depth first, so their order
+/// follows the cutters' order as before.
 fn cut_away(
     lower: &Surface,
     uppers: &[&Surface],
     thin: f64,
     outcome: &mut Outcome,
 ) -> Vec<Surface> {
-    let mut pieces: Vec<Polygon> = vec![lower.vertices.iter().copied().collect()];
-    for upper in uppers {
-        // Slivers go at once: clipping along a cutter's edge leaves pieces of
-        // no area, and kept, every later cutter would cut each of them again
-        // (41 stacked layers ran out of memory).
-        pieces = pieces
+    let normal = lower.normal;
+    let bounds: Vec<Bounds> = uppers.iter().map(|u| Bounds::of(&u.vertices)).collect();
+    let whole: Polygon = lower.vertices.iter().copied().collect();
+    let reach = |piece: &Polygon, cutters: &[usize]| -> Vec<usize> {
+        let b = Bounds::of(piece);
+        cutters
             .iter()
-            .flat_map(|p| difference(p, &upper.vertices, lower.normal))
-            .filter_map(|p| kept_piece(&p, lower.normal, thin, outcome))
+            .copied()
+            .filter(|&k| bounds[k].meets(&b, thin))
+            .collect()
+    };
+    let all: Vec<usize> = (0..uppers.len()).collect();
+    let mut stack = vec![(reach(&whole, &all), whole)];
+    let mut pieces: Vec<Polygon> = Vec::new();
+    while let Some((cutters, piece)) = stack.pop() {
+        let Some((&first, later)) = cutters.split_first() else {
+            pieces.push(piece);
+            continue;
+        };
+        // Slivers go at once: clipping along a cutter's edge leaves pieces
+        // of no area, and kept, later cutters would cut each of them again
+        // (41 stacked layers ran out of memory).
+        let parts: Vec<Polygon> = difference(&piece, &uppers[first].vertices, normal)
+            .iter()
+            .filter_map(|p| kept_piece(p, normal, thin, outcome))
             .collect();
+        for part in parts.into_iter().rev() {
+            stack.push((reach(&part, later), part));
+        }
     }
     let mut out = Vec::new();
     for piece in pieces {
         fan(&piece, lower, &mut out, outcome);
     }
     out
+}
+
+/// An axis-aligned box around a polygon.
+struct Bounds {
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Bounds {
+    fn of(points: &[DVec3]) -> Bounds {
+        Bounds {
+            lo: points.iter().fold(DVec3::INFINITY, |a, p| a.min(*p)),
+            hi: points.iter().fold(DVec3::NEG_INFINITY, |a, p| a.max(*p)),
+        }
+    }
+
+    /// Whether the boxes meet, or come within `gap` of each other.
+    fn meets(&self, other: &Bounds, gap: f64) -> bool {
+        (self.lo - gap).cmple(other.hi).all() && (other.lo - gap).cmple(self.hi).all()
+    }
 }
 
 /// `piece` without needless vertices, or `None` (counted as a sliver if it

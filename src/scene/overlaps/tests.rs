@@ -245,3 +245,61 @@ fn a_stack_of_forty_shifted_layers_is_cut_into_few_pieces() {
     let area: f64 = scene.surfaces.iter().map(|s| s.area).sum();
     assert!((area - 1.39).abs() < 1e-9, "area {area}");
 }
+
+#[test]
+fn many_decals_each_cut_out_once_leave_the_wall_its_exact_area() {
+    // 900 decals in a 30 x 30 grid, some rotated by 45 degrees, some
+    // overlapping their neighbours' bounds but not their footprints: the
+    // wall keeps 16 m^2 less their areas, and no piece of it lies under a
+    // decal.
+    let mut b = SceneBuilder::new("decals");
+    b.overlaps(None);
+    let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+    let red = b
+        .material("red", Rgb::new(0.5, 0.0, 0.0), Rgb::ZERO)
+        .unwrap();
+    b.object("wall");
+    square(&mut b, grey, 0.0, 0.0, 4.0, 0.0);
+    b.object("decals");
+    let (mut covered, mut centres) = (0.0, Vec::new());
+    for k in 0..900 {
+        let (i, j) = (f64::from(k % 30), f64::from(k / 30));
+        let c = v(0.1 + 0.13 * i, 0.0, 0.1 + 0.13 * j);
+        if k % 3 == 0 {
+            // A diamond of half-diagonal 0.06: area 2 * 0.06^2.
+            let r = 0.06;
+            b.quad(
+                red,
+                c + v(-r, 0.0, 0.0),
+                c + v(0.0, 0.0, r),
+                c + v(r, 0.0, 0.0),
+                c + v(0.0, 0.0, -r),
+            )
+            .unwrap();
+            covered += 2.0 * r * r;
+        } else {
+            square(&mut b, red, c.x - 0.05, c.z - 0.05, 0.1, 0.0);
+            covered += 0.01;
+        }
+        centres.push((c, k % 3 == 0));
+    }
+    let mut scene = b.build().unwrap();
+    scene.resolve_overlaps(Overlaps::Resolve).unwrap();
+    let wall = object_area(&scene, "wall");
+    assert!((wall - (16.0 - covered)).abs() < 1e-9, "{wall}");
+    assert!((object_area(&scene, "decals") - covered).abs() < 1e-9);
+    assert_eq!(scene.import_stats.overlapping_pairs, 900);
+    for s in scene.surfaces.iter().filter(|s| s.object == 0) {
+        let p = s.centroid();
+        let under = centres.iter().any(|(c, diamond)| {
+            let (dx, dz) = ((p.x - c.x).abs(), (p.z - c.z).abs());
+            if *diamond {
+                dx + dz < 0.06 - 1e-9
+            } else {
+                dx.max(dz) < 0.05 - 1e-9
+            }
+        });
+        assert!(!under, "a piece of the wall under a decal at {p}");
+    }
+    assert!(pairs::find_overlaps(&scene, pairs::Scope::All).is_empty());
+}
