@@ -25,6 +25,7 @@ mod hostile_extent;
 mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
+mod light_groups;
 mod lights;
 mod logo_mesh;
 mod memory_limits;
