@@ -7,6 +7,7 @@ mod checks;
 mod compare_cmd;
 mod converge_cmd;
 mod diff_cmd;
+mod group_args;
 mod peak_memory;
 mod probe_cmd;
 mod progress_bar;
@@ -17,6 +18,8 @@ mod solve_cmd;
 mod stdout;
 mod surface_table;
 mod view_args;
+mod view_cmd;
+mod viewer;
 mod views;
 
 use anyhow::Result;
@@ -39,6 +42,7 @@ pub fn run() -> Result<()> {
         Command::ExportScene(a) => solve_cmd::export_scene(&a),
         Command::Bake(a) => bake_cmd::run(&a),
         Command::Render(a) => render_cmd::run(&a),
+        Command::View(a) => view_cmd::run(&a),
         Command::Diff(a) => diff_cmd::run(&a),
         Command::Reference(a) => reference_cmd::run(&a),
         Command::Compare(a) => compare_cmd::run(&a),

@@ -19,7 +19,8 @@ pub struct RenderArgs {
     /// Folder for NAME.png and NAME.exr (NAME is the baked file's stem).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-    /// Cameras and images, as for `solve`.
+    /// Cameras and images, as for `solve`; the exposure is the bake's own
+    /// unless given (automatic for bakes made before light groups).
     #[command(flatten)]
     pub view: ViewArgs,
     /// Print no summary.
@@ -42,12 +43,16 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     );
     let views = choose_views(&plan, &baked.cameras, || Camera::framing_box(lo, hi));
     check_view_files(views.len(), &a.view, &plan, &a.out, &baked.name)?;
+    // A bake's colours were made at one exposure: its renders use it too,
+    // unless told (so that they show what a viewer of the file shows).
+    let mut view = a.view.clone();
+    view.exposure = view.exposure.or(baked.exposure);
     let mut staged = Outputs::new();
     let outputs = write_views(
         &mut staged,
         &baked.mesh,
         &views,
-        &a.view,
+        &view,
         &plan,
         &a.out,
         &baked.name,

@@ -148,9 +148,10 @@ pub(crate) fn solve_groups(
         );
         unmask(mesh, saved);
         let mut radiosity = solved?;
-        if exponent != 0 {
-            radiosity.map_values(|v| Rgb(v.0.map(|x| times_pow2(x, exponent))));
-        }
+        // Back at the scene's scale. A shaped gather's corrections can leave
+        // a group a few parts in 1e6 below 0 where it barely reaches; no
+        // light is negative.
+        radiosity.map_values(|v| Rgb(v.0.map(|x| times_pow2(x, exponent).max(0.0))));
         out.push(radiosity);
     }
     progress(Progress {

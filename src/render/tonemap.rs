@@ -150,11 +150,19 @@ pub const AUTO_EXPOSURE_PERCENTILE: f64 = 0.97;
 /// surfaces) and non-finite pixels are left out; with nothing left, 0.
 #[must_use]
 pub fn auto_exposure(img: &HdrImage, tone: ToneMap) -> f64 {
+    auto_exposure_above(img, tone, 0.0)
+}
+
+/// [`auto_exposure`] leaving out pixels whose luminance is at most `floor`
+/// as well: numerical noise on surfaces no light reaches (1e-12 of a lamp)
+/// is not to be exposed for when nothing else is in view.
+#[must_use]
+pub fn auto_exposure_above(img: &HdrImage, tone: ToneMap, floor: f64) -> f64 {
     let mut lum: Vec<f64> = img
         .pixels
         .iter()
         .map(|p| p.luminance())
-        .filter(|l| l.is_finite() && *l > 0.0)
+        .filter(|l| l.is_finite() && *l > 0.0 && *l > floor)
         .collect();
     if lum.is_empty() {
         return 0.0;

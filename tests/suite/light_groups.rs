@@ -22,7 +22,7 @@ fn v(x: f64, y: f64, z: f64) -> DVec3 {
 /// A closed 4 x 3 x 4 m room with a box on the floor and four sources: a
 /// warm panel under the ceiling, a panel on a wall whose emission is a
 /// texture (a bright stripe), a point light and a spot light.
-fn room() -> Scene {
+pub(crate) fn room() -> Scene {
     let mut b = SceneBuilder::new("room");
     let wall = b
         .material("wall", Rgb::new(0.7, 0.65, 0.6), Rgb::ZERO)
