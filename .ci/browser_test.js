@@ -17,15 +17,21 @@
 // Usage: NODE_PATH=<node_modules with playwright-core and three> \
 //   node .ci/browser_test.js RADIOSITY_BINARY WORK_DIR
 //        node .ci/browser_test.js RADIOSITY_BINARY WORK_DIR --measure BAKE.glb
+//        node .ci/browser_test.js RADIOSITY_BINARY WORK_DIR --shots BAKE.glb MIXES
+// (--measure prints load and frame times; --shots writes WORK_DIR/mix_N.png
+// for each mix of the JSON object MIXES: {"eye": [x, y, z], "target": [x, y,
+// z], "fov": degrees, "mixes": [[[level, [r, g, b] or null] per group], ...]}
+// (eye and target optional); neither runs in CI.)
 "use strict";
 
 const fs = require("fs");
+const zlib = require("zlib");
 const path = require("path");
 const http = require("http");
 const { spawn, execFileSync } = require("child_process");
 const { chromium } = require("playwright-core");
 
-const [binary, work, flag, measured] = process.argv.slice(2);
+const [binary, work, flag, measured, mixes] = process.argv.slice(2);
 const WIDTH = 480, HEIGHT = 360;
 const LIMITS = { mean: 1.0, far: 0.02, farLevels: 8, edge: 24 };
 const THREE = path.join(path.dirname(require.resolve("three")), "..");
@@ -42,7 +48,8 @@ function writeFixture(file) {
   const positions = [], indices = [], primitives = [];
   const materials = [
     { name: "wall", pbrMetallicRoughness: { baseColorFactor: [0.72, 0.7, 0.66, 1], metallicFactor: 0 } },
-    { name: "floor", pbrMetallicRoughness: { baseColorFactor: [0.5, 0.42, 0.32, 1], metallicFactor: 0 } },
+    { name: "floor", pbrMetallicRoughness: { baseColorFactor: [0.8, 0.7, 0.55, 1], metallicFactor: 0,
+      baseColorTexture: { index: 0 } } },
     { name: "box", pbrMetallicRoughness: { baseColorFactor: [0.25, 0.45, 0.7, 1], metallicFactor: 0 } },
     { name: "warm lamp", pbrMetallicRoughness: { baseColorFactor: [0.8, 0.8, 0.8, 1], metallicFactor: 0 },
       emissiveFactor: [1, 0.75, 0.5], extensions: { KHR_materials_emissive_strength: { emissiveStrength: 6 } } },
@@ -80,10 +87,10 @@ function writeFixture(file) {
   };
   materials.forEach((m, mi) => {
     const list = quads[m.name];
-    const pos = [], idx = [];
+    const pos = [], idx = [], uv = [];
     for (const quad of list) {
       const first = pos.length / 3;
-      for (const v of quad) pos.push(...v);
+      for (const v of quad) { pos.push(...v); uv.push(v[0] / 2, v[2] / 2); }
       idx.push(first, first + 1, first + 2, first, first + 2, first + 3);
     }
     const pb = Buffer.from(new Float32Array(pos).buffer);
@@ -92,8 +99,17 @@ function writeFixture(file) {
     const max = [0, 1, 2].map((k) => Math.max(...pos.filter((_, i) => i % 3 === k)));
     accessors.push({ bufferView: push(pb, 34962), componentType: 5126, count: pos.length / 3, type: "VEC3", min, max });
     accessors.push({ bufferView: push(ib, 34963), componentType: 5123, count: idx.length, type: "SCALAR" });
-    primitives.push({ name: m.name, primitive: { attributes: { POSITION: accessors.length - 2 }, indices: accessors.length - 1, material: mi } });
+    const attributes = { POSITION: accessors.length - 2 };
+    if (m.pbrMetallicRoughness.baseColorTexture) {
+      const ub = Buffer.from(new Float32Array(uv).buffer);
+      accessors.push({ bufferView: push(ub, 34962), componentType: 5126, count: uv.length / 2, type: "VEC2" });
+      attributes.TEXCOORD_0 = accessors.length - 1;
+    }
+    primitives.push({ name: m.name, primitive: { attributes, indices: accessors.length - (attributes.TEXCOORD_0 ? 2 : 1), material: mi } });
   });
+  // The floor's texture: 8 x 8 checks of two greys, one texel each,
+  // repeated every 2 m.
+  const image = push(checkerPng(8), undefined);
   const data = Buffer.concat(bin);
   // The camera at (0.4, 1.5, 3.7) looking at (2.6, 1.5, 1.2), both lamps
   // and the box in view: a rotation whose -Z is that direction and whose Y
@@ -115,12 +131,47 @@ function writeFixture(file) {
     ],
     meshes: primitives.map((p) => ({ name: p.name, primitives: [p.primitive] })),
     materials,
+    textures: [{ source: 0, sampler: 0 }],
+    samplers: [{ magFilter: 9728, minFilter: 9728 }],
+    images: [{ bufferView: image, mimeType: "image/png" }],
     cameras: [{ type: "perspective", perspective: { yfov: 1.0, znear: 0.05 } }],
     accessors,
     bufferViews: views,
     buffers: [{ byteLength: data.length, uri: "data:application/octet-stream;base64," + data.toString("base64") }],
   };
   fs.writeFileSync(file, JSON.stringify(json));
+}
+
+// An n x n 8-bit RGB PNG of checks, light (0.9) and darker (0.45) linear
+// grey, sRGB encoded.
+function checkerPng(n) {
+  const srgb = (x) => Math.round(255 * (x <= 0.0031308 ? 12.92 * x : 1.055 * Math.pow(x, 1 / 2.4) - 0.055));
+  const rows = [];
+  for (let y = 0; y < n; y++) {
+    const row = [0];
+    for (let x = 0; x < n; x++) { const v = srgb((x + y) % 2 ? 0.45 : 0.9); row.push(v, v, v); }
+    rows.push(Buffer.from(row));
+  }
+  const chunk = (type, body) => {
+    const head = Buffer.alloc(4); head.writeUInt32BE(body.length);
+    const typed = Buffer.concat([Buffer.from(type, "ascii"), body]);
+    const crc = Buffer.alloc(4); crc.writeUInt32BE(crc32(typed));
+    return Buffer.concat([head, typed, crc]);
+  };
+  const header = Buffer.alloc(13);
+  header.writeUInt32BE(n, 0); header.writeUInt32BE(n, 4);
+  header[8] = 8; header[9] = 2; // 8 bits, RGB
+  return Buffer.concat([Buffer.from([137, 80, 78, 71, 13, 10, 26, 10]), chunk("IHDR", header),
+    chunk("IDAT", zlib.deflateSync(Buffer.concat(rows))), chunk("IEND", Buffer.alloc(0))]);
+}
+
+function crc32(bytes) {
+  let c = ~0;
+  for (const b of bytes) {
+    c ^= b;
+    for (let k = 0; k < 8; k++) c = (c >>> 1) ^ (0xedb88320 & -(c & 1));
+  }
+  return ~c >>> 0;
 }
 
 function norm(v) { const l = Math.hypot(...v); return v.map((x) => x / l); }
@@ -271,6 +322,10 @@ async function main() {
       await measure(browser, measured);
       return;
     }
+    if (flag === "--shots") {
+      await shots(browser, measured, JSON.parse(mixes));
+      return;
+    }
     const scene = path.join(work, "room.gltf");
     writeFixture(scene);
     const solve = ["--light-group", "bulb=bulb", "--patch-size", "0.5", "--quiet"];
@@ -341,6 +396,28 @@ async function measure(browser, bake) {
     const relit = await page.evaluate(() => window.radiosityViewer.measure(20));
     console.log(JSON.stringify({ bake, triangles: state.triangles, vertices: state.vertices,
       groups: state.groups.length, loadSeconds: wall, loadMsInPage: state.loadMs, frameMs: frame, frameMsAfterSlider: relit }));
+  } finally {
+    view.child.kill();
+  }
+}
+
+// Pictures of a bake relit: the canvas (panel hidden) for each mix.
+async function shots(browser, bake, { eye, target, fov, mixes: list }) {
+  const view = await startView(bake);
+  try {
+    const page = await browser.newPage({ viewport: { width: 640, height: 480 }, deviceScaleFactor: 1 });
+    await page.goto(view.url);
+    await page.evaluate(() => window.radiosityViewer.ready);
+    console.log(JSON.stringify(await page.evaluate(() => window.radiosityViewer.state())));
+    await page.evaluate(() => document.getElementById("panel").classList.add("hidden"));
+    console.log(JSON.stringify(await page.evaluate(() => window.radiosityViewer.bounds())));
+    if (eye) await page.evaluate(([e, t, f]) => window.radiosityViewer.lookAt(e, t, f), [eye, target, fov || 45]);
+    for (const [n, mix] of list.entries()) {
+      for (const [k, [level, colour]] of mix.entries()) {
+        await page.evaluate(([k, level, colour]) => window.radiosityViewer.setGroup(k, level, colour), [k, level, colour]);
+      }
+      await page.locator("#view").screenshot({ path: path.join(work, `mix_${n + 1}.png`) });
+    }
   } finally {
     view.child.kill();
   }

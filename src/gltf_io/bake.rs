@@ -272,7 +272,9 @@ pub fn stage_baked(
     ));
     if clipped > 0 {
         summary.warnings.push(format!(
-            "{clipped} vertices on textured materials are brighter than their texture can              show in COLOR_0 at exposure {exposure:.2}: clipped there (their light groups              keep the whole value)"
+            "{clipped} vertices on textured materials are brighter than their texture can \
+             show in COLOR_0 at exposure {exposure:.2}: clipped there (their light groups \
+             keep the whole value)"
         ));
     }
     summary.bytes = finish(
