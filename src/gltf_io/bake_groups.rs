@@ -1,13 +1,18 @@
 //! Light groups in a bake: each group's values as a vertex attribute
 //! `_GROUP_k`, scaled by a power of two per group, and the description in
-//! `asset.extras.radiosity` that says how to read them.
+//! `asset.extras.radiosity` that says how to read them, written and read
+//! back.
 
 use super::bake::BakeGroup;
 use super::bake_colour::scale_for;
+use super::document::Document;
+use super::gltf_error;
+use crate::error::Result;
 use crate::math::Rgb;
 use crate::mesh::ShadingMesh;
 use crate::render::ToneMap;
 use gltf_json::Value;
+use std::path::Path;
 
 /// The attribute name of group `k`, without its leading underscore (which
 /// glTF's application-specific attributes start with).
@@ -127,4 +132,73 @@ pub(super) fn description(writer: &GroupWriter, exposure: f64, tone: ToneMap) ->
                     toneMap(2^exposure * radiance), per vertex (on textured materials, of the \
                     mean texel's radiance, over the material's mean reflectance)",
     })
+}
+
+/// A light group of a baked file, as `asset.extras.radiosity.groups` lists it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BakedGroupInfo {
+    /// Its name.
+    pub name: String,
+    /// The vertex attribute that holds it (`_GROUP_k`).
+    pub attribute: String,
+    /// Its values are the attribute's times this.
+    pub scale: f64,
+}
+
+/// The exposure and light groups of `asset.extras.radiosity` (version 2;
+/// `None` and none for an older bake or another file).
+pub(super) fn read_description(
+    path: &Path,
+    doc: &Document,
+) -> Result<(Option<f64>, Vec<BakedGroupInfo>)> {
+    let Some(d) = doc.raw.pointer("/asset/extras/radiosity") else {
+        return Ok((None, Vec::new()));
+    };
+    if d.get("version").and_then(serde_json::Value::as_u64) != Some(2) {
+        return Ok((None, Vec::new()));
+    }
+    let fail = |m: String| gltf_error(path, format!("asset.extras.radiosity: {m}"));
+    let exposure = d
+        .get("exposure")
+        .and_then(serde_json::Value::as_f64)
+        .filter(|e| e.is_finite())
+        .ok_or_else(|| fail("no finite exposure".to_string()))?;
+    let listed = d
+        .get("groups")
+        .and_then(serde_json::Value::as_array)
+        .ok_or_else(|| fail("no list of groups".to_string()))?;
+    let mut groups = Vec::with_capacity(listed.len());
+    for (k, g) in listed.iter().enumerate() {
+        let text = |key: &str| {
+            g.get(key)
+                .and_then(serde_json::Value::as_str)
+                .map(str::to_string)
+        };
+        let (Some(name), Some(attribute)) = (text("name"), text("attribute")) else {
+            return Err(fail(format!("group {k} has no name or attribute")));
+        };
+        let scale = g
+            .get("scale")
+            .and_then(serde_json::Value::as_f64)
+            .filter(|s| s.is_finite() && *s > 0.0)
+            .ok_or_else(|| {
+                fail(format!(
+                    "the scale of group '{name}' is not a positive number"
+                ))
+            })?;
+        if !attribute.starts_with('_') {
+            return Err(fail(format!(
+                "the attribute '{attribute}' of group '{name}' does not start with '_'"
+            )));
+        }
+        groups.push(BakedGroupInfo {
+            name,
+            attribute,
+            scale,
+        });
+    }
+    if groups.is_empty() {
+        return Err(fail("no light group".to_string()));
+    }
+    Ok((Some(exposure), groups))
 }

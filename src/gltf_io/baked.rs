@@ -3,6 +3,7 @@
 
 use super::accessors::{read_colours, read_indices, read_positions, read_texcoords};
 use super::bake_colour::{radiosity_from, SCALE_KEY};
+use super::bake_groups::{read_description, BakedGroupInfo};
 use super::buffers::load_buffers;
 use super::cameras::import_camera;
 use super::container::{read_limited, split};
@@ -47,17 +48,6 @@ pub struct BakedScene {
     pub groups: Vec<BakedGroupInfo>,
     /// Things skipped or ignored, in words a user can act on.
     pub warnings: Vec<String>,
-}
-
-/// A light group of a baked file, as `asset.extras.radiosity.groups` lists it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BakedGroupInfo {
-    /// Its name.
-    pub name: String,
-    /// The vertex attribute that holds it (`_GROUP_k`).
-    pub attribute: String,
-    /// Its values are the attribute's times this.
-    pub scale: f64,
 }
 
 /// How one material turns colours into radiosity.
@@ -167,61 +157,6 @@ pub fn load_baked(path: &Path, limits: &ImportLimits) -> Result<BakedScene> {
         return Err(gltf_error(path, e.to_string()));
     }
     Ok(out)
-}
-
-/// The exposure and light groups of `asset.extras.radiosity` (version 2;
-/// `None` and none for an older bake or another file).
-fn read_description(path: &Path, doc: &Document) -> Result<(Option<f64>, Vec<BakedGroupInfo>)> {
-    let Some(d) = doc.raw.pointer("/asset/extras/radiosity") else {
-        return Ok((None, Vec::new()));
-    };
-    if d.get("version").and_then(serde_json::Value::as_u64) != Some(2) {
-        return Ok((None, Vec::new()));
-    }
-    let fail = |m: String| gltf_error(path, format!("asset.extras.radiosity: {m}"));
-    let exposure = d
-        .get("exposure")
-        .and_then(serde_json::Value::as_f64)
-        .filter(|e| e.is_finite())
-        .ok_or_else(|| fail("no finite exposure".to_string()))?;
-    let listed = d
-        .get("groups")
-        .and_then(serde_json::Value::as_array)
-        .ok_or_else(|| fail("no list of groups".to_string()))?;
-    let mut groups = Vec::with_capacity(listed.len());
-    for (k, g) in listed.iter().enumerate() {
-        let text = |key: &str| {
-            g.get(key)
-                .and_then(serde_json::Value::as_str)
-                .map(str::to_string)
-        };
-        let (Some(name), Some(attribute)) = (text("name"), text("attribute")) else {
-            return Err(fail(format!("group {k} has no name or attribute")));
-        };
-        let scale = g
-            .get("scale")
-            .and_then(serde_json::Value::as_f64)
-            .filter(|s| s.is_finite() && *s > 0.0)
-            .ok_or_else(|| {
-                fail(format!(
-                    "the scale of group '{name}' is not a positive number"
-                ))
-            })?;
-        if !attribute.starts_with('_') {
-            return Err(fail(format!(
-                "the attribute '{attribute}' of group '{name}' does not start with '_'"
-            )));
-        }
-        groups.push(BakedGroupInfo {
-            name,
-            attribute,
-            scale,
-        });
-    }
-    if groups.is_empty() {
-        return Err(fail("no light group".to_string()));
-    }
-    Ok((Some(exposure), groups))
 }
 
 /// Every material's base colour, emission, unlit flag and base-colour

@@ -53,7 +53,8 @@ mod textures;
 mod uri;
 
 pub use bake::{stage_baked, write_baked, BakeGroup, BakeOptions, BakeSummary};
-pub use baked::{load_baked, BakedGroupInfo, BakedScene};
+pub use bake_groups::BakedGroupInfo;
+pub use baked::{load_baked, BakedScene};
 pub use export::{stage_scene, write_scene};
 pub use import::{load_scene, load_scene_with};
 pub use limits::ImportLimits;

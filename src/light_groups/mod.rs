@@ -28,8 +28,10 @@
 //! ```
 
 pub(crate) mod mask;
+mod scaled;
 mod solve;
 mod spec;
+mod validate;
 
 pub use solve::GROUP_TOLERANCE;
 pub use spec::{GroupPattern, GroupRule, LightGroup, LightGroups};

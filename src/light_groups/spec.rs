@@ -2,7 +2,6 @@
 //! punctual lights whose light a group carries.
 
 use crate::error::{Error, Result};
-use crate::math::Rgb;
 use crate::scene::Scene;
 use std::collections::HashMap;
 
@@ -83,8 +82,10 @@ impl GroupPattern {
 
 /// A source of light in a scene, with the names patterns are matched to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Source {
+pub(super) enum Source {
+    /// An emitting surface, by index in the scene.
     Surface(u32),
+    /// A punctual light, by index in the scene.
     Light(u32),
 }
 
@@ -242,90 +243,6 @@ impl LightGroups {
         self.groups.iter().position(|g| g.name == name)
     }
 
-    /// Checks that the groups partition the sources of `scene`: every
-    /// emitting surface and every punctual light in exactly one group, no
-    /// index out of range, no group empty, names unique and not empty.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::Setting`] (named `light-group`) naming the group and the
-    /// surface or light at fault.
-    pub fn validate(&self, scene: &Scene) -> Result<()> {
-        let bad = |message: String| {
-            Err(Error::Setting {
-                name: "light-group",
-                message,
-            })
-        };
-        let mut surface_group: Vec<Option<usize>> = vec![None; scene.surfaces.len()];
-        let mut light_group: Vec<Option<usize>> = vec![None; scene.lights.len()];
-        for (i, g) in self.groups.iter().enumerate() {
-            if g.name.trim().is_empty() {
-                return bad(format!("group {} has no name", i + 1));
-            }
-            if self.groups[..i].iter().any(|h| h.name == g.name) {
-                return bad(format!("two groups are named '{}'", g.name));
-            }
-            if g.surfaces.is_empty() && g.lights.is_empty() {
-                return bad(format!("the group '{}' holds no source", g.name));
-            }
-            for &s in &g.surfaces {
-                let Some(slot) = surface_group.get_mut(s as usize) else {
-                    return bad(format!(
-                        "the group '{}' holds surface {s}, but scene '{}' has {}",
-                        g.name,
-                        scene.name,
-                        scene.surfaces.len()
-                    ));
-                };
-                let surface = &scene.surfaces[s as usize];
-                let material = scene.material_of(surface);
-                if !material.is_emitter() {
-                    return bad(format!(
-                        "the group '{}' holds surface {s} of object '{}', whose material '{}' \
-                         emits nothing",
-                        g.name, scene.objects[surface.object as usize].name, material.name
-                    ));
-                }
-                if let Some(other) = slot.replace(i) {
-                    return bad(format!(
-                        "surface {s} (material '{}') is in both '{}' and '{}'",
-                        material.name, self.groups[other].name, g.name
-                    ));
-                }
-            }
-            for &l in &g.lights {
-                let Some(slot) = light_group.get_mut(l as usize) else {
-                    return bad(format!(
-                        "the group '{}' holds light {l}, but scene '{}' has {}",
-                        g.name,
-                        scene.name,
-                        scene.lights.len()
-                    ));
-                };
-                if let Some(other) = slot.replace(i) {
-                    return bad(format!(
-                        "the light {} is in both '{}' and '{}'",
-                        scene.lights[l as usize].name, self.groups[other].name, g.name
-                    ));
-                }
-            }
-        }
-        for source in sources(scene) {
-            let missing = match source {
-                Source::Surface(s) => surface_group[s as usize].is_none(),
-                Source::Light(l) => light_group[l as usize].is_none(),
-            };
-            if missing {
-                return bad(format!(
-                    "the {} is in no group: the groups would not add up to the whole light",
-                    describe(scene, source)
-                ));
-            }
-        }
-        Ok(())
-    }
-
     /// Per scene surface, the group whose light it emits (`None` for a
     /// surface that emits nothing).
     #[must_use]
@@ -340,76 +257,10 @@ impl LightGroups {
         }
         out
     }
-
-    /// `scene` with each group's sources scaled per band by its entry of
-    /// `factors` (one per group): its surfaces' emission (and emissive
-    /// textures) and its lights' colour. A material shared by surfaces of
-    /// different groups is copied for each. A new solve of the result is
-    /// what a mix of the groups with those factors stands for.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::Setting`] (named `light-group`) when the groups do not fit
-    /// `scene` (see [`Self::validate`]), `factors` has the wrong length, or
-    /// a factor is negative or not finite.
-    pub fn scaled_scene(&self, scene: &Scene, factors: &[Rgb]) -> Result<Scene> {
-        self.validate(scene)?;
-        if factors.len() != self.groups.len() {
-            return Err(Error::Setting {
-                name: "light-group",
-                message: format!(
-                    "{} factors for {} light groups",
-                    factors.len(),
-                    self.groups.len()
-                ),
-            });
-        }
-        if let Some((g, f)) = self
-            .groups
-            .iter()
-            .zip(factors)
-            .find(|(_, f)| !(f.is_finite() && f.min_band() >= 0.0))
-        {
-            return Err(Error::Setting {
-                name: "light-group",
-                message: format!(
-                    "the factor {:?} of the group '{}' is not a finite number of at least 0",
-                    f.0, g.name
-                ),
-            });
-        }
-        let mut out = scene.clone();
-        // (material, group) -> the material's copy for the group.
-        let mut copies: HashMap<(u32, usize), u32> = HashMap::new();
-        for (g, group) in self.groups.iter().enumerate() {
-            let f = factors[g];
-            for &s in &group.surfaces {
-                let m = scene.surfaces[s as usize].material;
-                let copy = *copies.entry((m, g)).or_insert_with(|| {
-                    let mut material = scene.materials[m as usize].clone();
-                    material.emission = material.emission * f;
-                    if let Some(t) = &material.emissive_texture {
-                        let mut t = (**t).clone();
-                        t.factor = t.factor * f;
-                        t.max_value *= f.max_band();
-                        material.emissive_texture = Some(std::sync::Arc::new(t));
-                    }
-                    out.materials.push(material);
-                    (out.materials.len() - 1) as u32
-                });
-                out.surfaces[s as usize].material = copy;
-            }
-            for &l in &group.lights {
-                let light = &mut out.lights[l as usize];
-                light.colour = light.colour * f;
-            }
-        }
-        Ok(out)
-    }
 }
 
 /// Every source of `scene`: its emitting surfaces, then its punctual lights.
-fn sources(scene: &Scene) -> impl Iterator<Item = Source> + '_ {
+pub(super) fn sources(scene: &Scene) -> impl Iterator<Item = Source> + '_ {
     let surfaces = scene
         .surfaces
         .iter()
@@ -434,7 +285,7 @@ fn names_of(scene: &Scene, source: Source) -> Vec<&str> {
 }
 
 /// A source in words.
-fn describe(scene: &Scene, source: Source) -> String {
+pub(super) fn describe(scene: &Scene, source: Source) -> String {
     match source {
         Source::Surface(s) => {
             let surface = &scene.surfaces[s as usize];

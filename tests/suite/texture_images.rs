@@ -451,19 +451,24 @@ fn baked_files_keep_the_texture_and_colour_holds_the_light() {
     assert!((baked / drawn - 1.0).abs() < 0.01, "{baked} vs {drawn}");
 }
 
+/// Bakes `sol` (a solve of `scene`, without light groups) to `path`.
+fn bake(scene: &Scene, sol: &Solution, path: &Path) {
+    write_baked(
+        scene,
+        &sol.shading_mesh(),
+        &[],
+        &BakeOptions::default(),
+        path,
+    )
+    .unwrap();
+}
+
 #[test]
 fn untextured_bakes_carry_no_texture_coordinates() {
     let scene = floor_scene(0.5, None);
     let sol = solve(&scene);
     let path = scratch("plain.glb");
-    write_baked(
-        &scene,
-        &sol.shading_mesh(),
-        &[],
-        &BakeOptions::default(),
-        &path,
-    )
-    .unwrap();
+    bake(&scene, &sol, &path);
     let (doc, ..) = gltf::import(&path).unwrap();
     assert_eq!(doc.textures().count(), 0);
     assert_eq!(doc.images().count(), 0);
@@ -480,18 +485,10 @@ fn textured_bakes_read_back_render_like_the_solution() {
     let sol = solve(&scene);
     let direct = render_floor(&sol);
     for name in ["back.glb", "back.gltf"] {
-        let colour = name;
         let path = scratch(name);
-        write_baked(
-            &scene,
-            &sol.shading_mesh(),
-            &[],
-            &BakeOptions::default(),
-            &path,
-        )
-        .unwrap();
+        bake(&scene, &sol, &path);
         let baked = load_baked(&path, &ImportLimits::default()).unwrap();
-        assert!(baked.mesh.texels.is_some(), "{colour}");
+        assert!(baked.mesh.texels.is_some(), "{name}");
         assert!(baked.warnings.is_empty(), "{:?}", baked.warnings);
         let image = render::render(&baked.mesh, &camera(), SIDE, SIDE).unwrap();
         // f32 colours and 8-bit texels: within 1 %, but for pixels on a check
@@ -503,7 +500,7 @@ fn textured_bakes_read_back_render_like_the_solution() {
                 off += usize::from((q[0] / p[0] - 1.0).abs() > 0.01);
             }
         }
-        eprintln!("{colour}: {off} of {lit} pixels off the solution's image by more than 1 %");
+        eprintln!("{name}: {off} of {lit} pixels off the solution's image by more than 1 %");
         assert!(lit > SIDE as usize * SIDE as usize / 2);
         assert!(off * 200 < lit, "{off} of {lit}");
     }
