@@ -580,3 +580,109 @@ fn bake_render_and_diff_commands() {
     assert!(report["mae"].as_f64().unwrap() >= 0.0 && report["rmse"].is_f64());
     assert!(Path::new(&difference).exists());
 }
+
+/// `bake --html` writes the page beside a copy of the bake, and `view`
+/// serves the same files on 127.0.0.1 at the address it prints, the bake's
+/// bytes unchanged, and nothing else.
+#[test]
+fn bake_html_and_view_serve_the_page_and_the_bake() {
+    use std::io::{BufRead, BufReader, Read, Write};
+    let dir = work_dir("view");
+    let baked = dir.join("room.glb");
+    let site = dir.join("site");
+    let mut bake = vec!["bake", "cornell_box", "--quiet", "-o"];
+    bake.push(baked.to_str().unwrap());
+    bake.extend(["--html", site.to_str().unwrap()]);
+    bake.extend(COARSE_FLAGS);
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(&bake)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&baked).unwrap();
+    assert_eq!(std::fs::read(site.join("scene.glb")).unwrap(), bytes);
+    for f in ["index.html", "viewer.js", "gltf.js", "render.js"] {
+        assert!(site.join(f).exists(), "{f} missing");
+    }
+    let page = std::fs::read_to_string(site.join("index.html")).unwrap();
+    assert!(page.contains(r#"content="scene.glb""#), "{page}");
+    assert!(
+        !page.contains("http://") && !page.contains("https://"),
+        "nothing fetched from elsewhere"
+    );
+
+    let mut child = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["view", baked.to_str().unwrap(), "--port", "0"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let served = (|| {
+        let start = line.find("http://127.0.0.1:").expect("an address") + "http://".len();
+        let address = line[start..].split('/').next().unwrap().to_string();
+        let get = |path: &str| {
+            let mut s = std::net::TcpStream::connect(&address).unwrap();
+            write!(s, "GET {path} HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+            let mut body = Vec::new();
+            s.read_to_end(&mut body).unwrap();
+            body
+        };
+        let scene = get("/scene.glb");
+        let head_end = scene.windows(4).position(|w| w == b"\r\n\r\n").unwrap() + 4;
+        (
+            String::from_utf8_lossy(&get("/")).into_owned(),
+            scene[..head_end].to_vec(),
+            scene[head_end..].to_vec(),
+            String::from_utf8_lossy(&get("/Cargo.toml")).into_owned(),
+        )
+    })();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let (index, head, body, other) = served;
+    assert!(
+        index.starts_with("HTTP/1.1 200") && index.contains("viewer.js"),
+        "{index}"
+    );
+    assert!(String::from_utf8_lossy(&head).starts_with("HTTP/1.1 200"));
+    assert_eq!(body, bytes);
+    assert!(other.starts_with("HTTP/1.1 404"), "{other}");
+}
+
+/// `view` of a scene file (not a bake) and a group name no source has are
+/// refused with messages that name them.
+#[test]
+fn view_of_a_scene_and_unknown_groups_are_refused() {
+    let scene_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell_box.gltf");
+    let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+        .args(["view", scene_file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(text.contains("COLOR_0"), "{text}");
+    let dir = work_dir("groups_cli");
+    for (flag, value, named) in [
+        ("--group-scale", "sun=0.5", "'sun'"),
+        (
+            "--light-group",
+            "lamps=nothing like it",
+            "'nothing like it'",
+        ),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_radiosity"))
+            .args(["bake", "cornell_box", "--quiet", flag, value, "-o"])
+            .arg(dir.join("x.glb"))
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{flag} {value}");
+        let text = String::from_utf8_lossy(&out.stderr);
+        assert!(text.contains(named), "{flag}: {text}");
+    }
+}
