@@ -615,43 +615,45 @@ fn bake_html_and_view_serve_the_page_and_the_bake() {
         "nothing fetched from elsewhere"
     );
 
-    let mut child = Command::new(env!("CARGO_BIN_EXE_radiosity"))
-        .args(["view", baked.to_str().unwrap(), "--port", "0"])
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    /// Ends the server however the test ends.
+    struct Server(std::process::Child);
+    impl Drop for Server {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let mut server = Server(
+        Command::new(env!("CARGO_BIN_EXE_radiosity"))
+            .args(["view", baked.to_str().unwrap(), "--port", "0"])
+            .stdout(std::process::Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
     let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
+    BufReader::new(server.0.stdout.take().unwrap())
         .read_line(&mut line)
         .unwrap();
-    let served = (|| {
-        let start = line.find("http://127.0.0.1:").expect("an address") + "http://".len();
-        let address = line[start..].split('/').next().unwrap().to_string();
-        let get = |path: &str| {
-            let mut s = std::net::TcpStream::connect(&address).unwrap();
-            write!(s, "GET {path} HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
-            let mut body = Vec::new();
-            s.read_to_end(&mut body).unwrap();
-            body
-        };
-        let scene = get("/scene.glb");
-        let head_end = scene.windows(4).position(|w| w == b"\r\n\r\n").unwrap() + 4;
-        (
-            String::from_utf8_lossy(&get("/")).into_owned(),
-            scene[..head_end].to_vec(),
-            scene[head_end..].to_vec(),
-            String::from_utf8_lossy(&get("/Cargo.toml")).into_owned(),
-        )
-    })();
-    child.kill().unwrap();
-    child.wait().unwrap();
-    let (index, head, body, other) = served;
+    let start = line.find("http://127.0.0.1:").expect("an address") + "http://".len();
+    let address = line[start..].split('/').next().unwrap().to_string();
+    let get = |path: &str| {
+        let mut s = std::net::TcpStream::connect(&address).unwrap();
+        write!(s, "GET {path} HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+        let mut body = Vec::new();
+        s.read_to_end(&mut body).unwrap();
+        body
+    };
+    let scene = get("/scene.glb");
+    let head_end = scene.windows(4).position(|w| w == b"\r\n\r\n").unwrap() + 4;
+    let (head, body) = scene.split_at(head_end);
+    let index = String::from_utf8_lossy(&get("/")).into_owned();
+    let other = String::from_utf8_lossy(&get("/Cargo.toml")).into_owned();
     assert!(
         index.starts_with("HTTP/1.1 200") && index.contains("viewer.js"),
         "{index}"
     );
-    assert!(String::from_utf8_lossy(&head).starts_with("HTTP/1.1 200"));
-    assert_eq!(body, bytes);
+    assert!(String::from_utf8_lossy(head).starts_with("HTTP/1.1 200"));
+    assert_eq!(body, &bytes[..]);
     assert!(other.starts_with("HTTP/1.1 404"), "{other}");
 }
 
