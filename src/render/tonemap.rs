@@ -233,6 +233,21 @@ mod tests {
     }
 
     #[test]
+    fn a_floor_leaves_out_noise_that_alone_would_set_the_exposure() {
+        let mut img = HdrImage::new(4, 1);
+        img.set(0, 0, Rgb::splat(1e-12));
+        img.set(1, 0, Rgb::splat(2e-12));
+        // Noise alone: exposed up to display grey.
+        assert!(auto_exposure(&img, ToneMap::Clamp) > 35.0);
+        // Above a floor of 1e-6, nothing is left: no exposure change.
+        assert_eq!(auto_exposure_above(&img, ToneMap::Clamp, 1e-6), 0.0);
+        // A lit pixel above the floor sets it: 0.8 / 0.4 is one stop.
+        img.set(2, 0, Rgb::splat(0.4));
+        let stops = auto_exposure_above(&img, ToneMap::Clamp, 1e-6);
+        assert!((stops - 1.0).abs() < 1e-9, "{stops}");
+    }
+
+    #[test]
     fn grey_target_inverts_the_curve() {
         assert!((grey_mapped_to(ToneMap::Clamp, 0.8) - 0.8).abs() < 1e-12);
         assert!((grey_mapped_to(ToneMap::Reinhard, 0.8) - 4.0).abs() < 1e-9);
