@@ -6,6 +6,7 @@ use super::checks::{check_exposure, thread_pool};
 use super::group_args::GroupArgs;
 use super::progress_bar::Bars;
 use super::solve_cmd::{check_gltf_name, load, load_options, settings};
+use super::view_cmd::MAX_VIEWED_GROUPS;
 use super::viewer::write_site;
 use anyhow::{Context, Result};
 use clap::Args;
@@ -96,6 +97,13 @@ pub fn run(a: &BakeArgs) -> Result<()> {
         let summary = write_baked(&scene, &shading, &bake_groups, &options, &a.output)?;
         for w in &summary.warnings {
             eprintln!("warning: {w}");
+        }
+        if summary.groups > MAX_VIEWED_GROUPS {
+            eprintln!(
+                "warning: {} light groups: `radiosity view` and the --html page mix at most \
+                 {MAX_VIEWED_GROUPS} (--light-group NAME=PATTERN,... merges sources)",
+                summary.groups
+            );
         }
         if let Some(dir) = &a.html {
             write_site(dir, &a.output)?;

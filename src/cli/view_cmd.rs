@@ -11,6 +11,9 @@ use std::net::TcpListener;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+/// The most light groups the page mixes (`MAX_GROUPS` of its `render.js`).
+pub const MAX_VIEWED_GROUPS: usize = 64;
+
 /// `radiosity view`.
 #[derive(Args, Debug, Clone)]
 pub struct ViewArgs {
@@ -29,6 +32,14 @@ pub fn run(a: &ViewArgs) -> Result<()> {
             "{} is a bake without light groups (made before they were); bake the scene again \
              with `radiosity bake`",
             a.baked.display()
+        );
+    }
+    if baked.groups.len() > MAX_VIEWED_GROUPS {
+        bail!(
+            "{} has {} light groups; the viewer mixes at most {MAX_VIEWED_GROUPS} (bake it \
+             again with fewer: --light-group NAME=PATTERN,... merges sources)",
+            a.baked.display(),
+            baked.groups.len()
         );
     }
     for w in &baked.warnings {

@@ -97,4 +97,13 @@ mod tests {
         assert_eq!(scene_name(Path::new("x/Room.GLTF")), "scene.gltf");
         assert_eq!(scene_name(Path::new("room.glb")), "scene.glb");
     }
+
+    #[test]
+    fn the_page_mixes_as_many_groups_as_view_lets_through() {
+        let limit = format!(
+            "export const MAX_GROUPS = {};",
+            crate::cli::view_cmd::MAX_VIEWED_GROUPS
+        );
+        assert!(FILES[3].2.contains(&limit));
+    }
 }
