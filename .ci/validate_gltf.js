@@ -1,7 +1,7 @@
 // Validates glTF files with the Khronos glTF validator (npm package
 // `gltf-validator`, found through NODE_PATH): prints each file's counts of
 // errors, warnings, infos and hints and every error and warning, and exits
-// with status 1 if any file has an error.
+// with status 1 if any file has an error or a warning.
 //
 // Usage: NODE_PATH=<folder holding node_modules/gltf-validator> node validate_gltf.js FILE...
 "use strict";
@@ -39,7 +39,7 @@ async function validate(file) {
     for (const [code, n] of others) {
         console.log(`  (${n} x ${code})`);
     }
-    return i.numErrors;
+    return i.numErrors + i.numWarnings;
 }
 
 async function main() {
@@ -48,12 +48,12 @@ async function main() {
         console.error("usage: node validate_gltf.js FILE...");
         process.exit(2);
     }
-    let errors = 0;
+    let issues = 0;
     for (const f of files) {
-        errors += await validate(f);
+        issues += await validate(f);
     }
-    if (errors > 0) {
-        console.error(`glTF validation failed: ${errors} errors`);
+    if (issues > 0) {
+        console.error(`glTF validation failed: ${issues} errors and warnings`);
         process.exit(1);
     }
 }

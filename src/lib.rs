@@ -76,6 +76,7 @@ pub mod analytic;
 pub mod error;
 pub mod gltf_io;
 pub mod input;
+pub mod light_groups;
 pub mod math;
 pub mod output;
 pub mod reference;

@@ -24,6 +24,7 @@ fn quad(corners: [DVec3; 4], values: [Rgb; 4]) -> ShadedMesh {
         values: values.to_vec(),
         triangles: vec![[0, 1, 2], [0, 2, 3]],
         texels: None,
+        cull_back_faces: false,
     }
 }
 
@@ -257,6 +258,7 @@ fn triangle_crossing_the_camera_plane_shows_its_visible_part() {
         values: vec![va, vb, vc],
         triangles: vec![[0, 1, 2]],
         texels: None,
+        cull_back_faces: false,
     };
     // The same triangle cut by hand at depth 0.25, 7/16 of the way from A.
     let t = 0.4375;
@@ -265,6 +267,7 @@ fn triangle_crossing_the_camera_plane_shows_its_visible_part() {
         values: vec![va, va + (vb - va) * t, va + (vc - va) * t],
         triangles: vec![[0, 1, 2]],
         texels: None,
+        cull_back_faces: false,
     };
     let cam = camera(90.0);
     let img = render(&whole, &cam, 64, 64).unwrap();

@@ -4,6 +4,7 @@ use super::bake_cmd::BakeArgs;
 use super::diff_cmd::DiffArgs;
 use super::render_cmd::RenderArgs;
 use super::view_args::ViewArgs;
+use super::view_cmd::ViewArgs as ViewCommandArgs;
 use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -27,11 +28,15 @@ pub enum Command {
     Solve(Box<SolveArgs>),
     /// Write a built-in scene as a glTF file.
     ExportScene(ExportArgs),
-    /// Solve a scene and write the refined mesh with per-vertex radiosity as
-    /// glTF (COLOR_0), to view anywhere or render again with `render`.
+    /// Solve a scene and write the refined mesh as glTF that any viewer shows
+    /// as `render` does (COLOR_0), each light group kept apart, to view
+    /// anywhere, relight with `view` or render again with `render`.
     Bake(Box<BakeArgs>),
     /// Render more views of a baked solution (from `bake`) without solving.
     Render(Box<RenderArgs>),
+    /// Serve a baked solution on 127.0.0.1 with a page to walk through it and
+    /// relight its light groups in a browser; prints the address.
+    View(ViewCommandArgs),
     /// Compare two EXR or HDR images: difference image, MAE, RMSE, relative RMSE.
     Diff(DiffArgs),
     /// Path-traced ground truth: the mean radiosity of every object, with

@@ -10,6 +10,7 @@ mod converge_cmd;
 mod cost_watch;
 mod daylight_args;
 mod diff_cmd;
+mod group_args;
 mod outputs;
 mod peak_memory;
 mod probe_cmd;
@@ -22,6 +23,8 @@ mod solve_cmd;
 mod stdout;
 mod surface_table;
 mod view_args;
+mod view_cmd;
+mod viewer;
 mod views;
 
 use anyhow::Result;
@@ -45,6 +48,7 @@ pub fn run() -> Result<()> {
         Command::ExportScene(a) => solve_cmd::export_scene(&a),
         Command::Bake(a) => bake_cmd::run(&a),
         Command::Render(a) => render_cmd::run(&a),
+        Command::View(a) => view_cmd::run(&a),
         Command::Diff(a) => diff_cmd::run(&a),
         Command::Reference(a) => reference_cmd::run(&a),
         Command::Compare(a) => compare_cmd::run(&a),

@@ -61,6 +61,7 @@ pub fn stage_name(stage: Stage) -> String {
         Stage::SharedRows { pass } => format!("refine {pass}: shared rows: own direct light"),
         Stage::Solve => "solve".to_string(),
         Stage::PartViews => "shaped gather: part views".to_string(),
+        Stage::LightGroups => "light groups".to_string(),
         Stage::Shoot { .. } => "shooting".to_string(),
     }
 }

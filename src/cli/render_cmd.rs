@@ -5,12 +5,9 @@ use super::view_args::ViewArgs;
 use super::views::{check_view_files, choose_views, write_views};
 use anyhow::Result;
 use clap::Args;
-use glam::DVec3;
 use radiosity::gltf_io::{load_baked, ImportLimits};
-use radiosity::math::Rgb;
 use radiosity::output::prepare_folder;
-use radiosity::render::ShadedMesh;
-use radiosity::scene::{Camera, SceneBuilder};
+use radiosity::render::default_view;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -22,7 +19,8 @@ pub struct RenderArgs {
     /// Folder for NAME.png and NAME.exr (NAME is the baked file's stem).
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-    /// Cameras and images, as for `solve`.
+    /// Cameras and images, as for `solve`; the exposure is the bake's own
+    /// unless given (automatic for bakes made before light groups).
     #[command(flatten)]
     pub view: ViewArgs,
     /// Print no summary.
@@ -46,7 +44,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
              frames a scene without one (give --camera for another)",
             a.baked.display()
         ));
-        default_view(&baked.mesh, &baked.name)
+        default_view(&baked.mesh)
     });
     for n in &notes {
         eprintln!("warning: {n}");
@@ -55,11 +53,15 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     refuse_overwriting_inputs(&files, &scene_inputs(&a.baked)?)?;
     let _lock = lock_set(&a.out, &baked.name)?;
     let mut staged = output_set(&a.out, &baked.name)?;
+    // A bake's colours were made at one exposure: its renders use it too,
+    // unless told (so that they show what a viewer of the file shows).
+    let mut view = a.view.clone();
+    view.exposure = view.exposure.or(baked.exposure);
     let outputs = write_views(
         &mut staged,
         &baked.mesh,
         &views,
-        &a.view,
+        &view,
         &plan,
         &a.out,
         &baked.name,
@@ -78,32 +80,4 @@ pub fn run(a: &RenderArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// The library's default view of a baked mesh ([`Camera::framing`]: from
-/// inside a closed room, from outside an object), taken on the mesh's
-/// triangles as the surfaces of a scene; the bounding box's framing when no
-/// triangle makes a surface.
-fn default_view(mesh: &ShadedMesh, name: &str) -> Camera {
-    let corner = |i: u32| mesh.positions.get(i as usize).copied();
-    let mut builder = SceneBuilder::new(name);
-    if let Ok(grey) = builder.material("baked", Rgb::splat(0.5), Rgb::ZERO) {
-        builder.object(name);
-        for t in &mesh.triangles {
-            if let (Some(a), Some(b), Some(c)) = (corner(t[0]), corner(t[1]), corner(t[2])) {
-                // A degenerate triangle shows nothing and frames nothing.
-                let _ = builder.triangle(grey, a, b, c);
-            }
-        }
-    }
-    match builder.build() {
-        Ok(scene) => Camera::framing(&scene),
-        Err(_) => {
-            let (lo, hi) = mesh.positions.iter().fold(
-                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            Camera::framing_box(lo, hi)
-        }
-    }
 }

@@ -1,30 +1,53 @@
-//! [`write_baked`]: a solution as glTF 2.0 with per-vertex radiosity.
+//! [`write_baked`]: a solution as glTF 2.0 that any viewer shows as
+//! `radiosity render` does, with each light group's radiosity kept apart.
 
-use super::bake_colour::{scale_for, BakeColour, SCALE_KEY};
+use super::bake_display::{cameras_to_write, clip_planes, default_exposure, Display};
+use super::bake_groups::{check_groups, description, GroupWriter};
 use super::bake_texture::{kept_textures, TextureWriter};
 use super::export::{
-    check_exportable, export_cameras, export_material, finish, is_binary, new_root, output_error,
-    use_extension, EMISSIVE_STRENGTH,
+    check_exportable, export_camera, finish, is_binary, new_root, output_error, use_extension,
 };
 use super::export_geometry::{GeometryWriter, VertexStreams};
-use super::precise::{array, scalar};
+use super::precise::array;
 use crate::error::Result;
 use crate::math::Rgb;
 use crate::mesh::ShadingMesh;
 use crate::output::Outputs;
+use crate::render::ToneMap;
 use crate::scene::{Material, Scene, Texture};
 use gltf_json::material::{
     EmissiveFactor, PbrBaseColorFactor, PbrMetallicRoughness, StrengthFactor,
 };
-use gltf_json::{Mesh, Node, Value};
+use gltf_json::{Mesh, Node};
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
 const UNLIT: &str = "KHR_materials_unlit";
 
+/// One light group's share of a bake: its name and its display mesh (see
+/// [`Solution::group_shading_meshes`](crate::Solution::group_shading_meshes)),
+/// the same vertices and triangles as the whole solution's.
+#[derive(Clone, Copy, Debug)]
+pub struct BakeGroup<'a> {
+    /// The group's name, shown by viewers.
+    pub name: &'a str,
+    /// Its display mesh.
+    pub shading: &'a ShadingMesh,
+}
+
+/// How [`write_baked`] shows the solution to stock viewers.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BakeOptions {
+    /// The exposure of `COLOR_0` in stops; `None` takes what `render`'s
+    /// automatic exposure gives the file's first camera.
+    pub exposure: Option<f64>,
+    /// The tone map of `COLOR_0`.
+    pub tone: ToneMap,
+}
+
 /// What [`write_baked`] wrote.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BakeSummary {
     /// Vertices over all primitives.
     pub vertices: usize,
@@ -32,6 +55,14 @@ pub struct BakeSummary {
     pub triangles: usize,
     /// Size of the file in bytes.
     pub bytes: usize,
+    /// The exposure of `COLOR_0` in stops.
+    pub exposure: f64,
+    /// Light groups written, each a vertex attribute.
+    pub groups: usize,
+    /// Bytes of the buffer the groups' attributes take.
+    pub group_bytes: usize,
+    /// Simplifications made, in words a user can act on.
+    pub warnings: Vec<String>,
 }
 
 /// The triangles of one primitive: one object's triangles on one material.
@@ -40,73 +71,68 @@ struct Group {
     triangles: Vec<usize>,
 }
 
-/// One primitive's vertex data, before scaling.
+/// One primitive's vertex data.
 struct Baked {
     positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    colours: Vec<Rgb>,
+    /// `COLOR_0`: the display value.
+    colours: Vec<[f32; 3]>,
+    /// Per light group, its unscaled value per vertex: radiosity, or on a
+    /// kept texture the irradiance.
+    groups: Vec<Vec<Rgb>>,
     /// `TEXCOORD_0` (transformed) when the material's texture is kept.
     texcoords: Option<Vec<[f32; 2]>>,
     indices: Vec<u32>,
-    max: f64,
+    /// Vertices whose display colour was clipped to 1.
+    clipped: usize,
 }
 
-/// Writes a solved scene as glTF 2.0 with the radiosity of every vertex of the
-/// crack-free display mesh `shading` (from
-/// [`Solution::shading_mesh`](crate::Solution::shading_mesh) of a solve of
-/// `scene`) in `COLOR_0`: a `.glb` file if the extension is `glb`, else a
+/// Writes a solved scene as glTF 2.0: the crack-free display mesh `shading`
+/// (from [`Solution::shading_mesh`](crate::Solution::shading_mesh) of a
+/// solve of `scene`) with each light group of `groups` (see
+/// [`crate::light_groups`]; none: the whole solution is one group, `all`)
+/// as a vertex attribute: a `.glb` file if the extension is `glb`, else a
 /// `.gltf` file with its buffer embedded.
 ///
 /// - One node and one mesh per scene object, both named after it, with one
 ///   triangle-list primitive per material the object uses (in order of first
-///   use); within a primitive the triangles keep the order of `shading`, and
-///   vertices are shared only within a surface, where the radiosity is
-///   continuous. The scene's cameras come along as camera nodes.
-/// - `colour` chooses what `COLOR_0` means (see [`BakeColour`]). Vertex colours
-///   must lie in `[0, 1]`, so every primitive stores its values divided by a power
-///   of two kept in the primitive's `extras` as `radiosityScale`: the value is
-///   `radiosityScale * COLOR_0` exactly, up to the `f32` rounding of `COLOR_0`.
-///   With [`BakeColour::Radiosity`] every non-emitting primitive shares one scale
-///   (so a viewer shows their radiosities in proportion, the brightest at
-///   least half white) and each emitting primitive has its own (so emitters show
-///   near white rather than darkening everything else). With
-///   [`BakeColour::Light`] all primitives share one scale and the materials are
-///   the scene's own, exactly as [`write_scene`](super::write_scene) writes them,
-///   plus `NORMAL`s for lit viewers.
-/// - Textured surfaces (see [`ShadingMesh::texels`]): a material's base-colour
-///   texture is kept (image, sampler, `TEXCOORD_0` per vertex with the
-///   texture transform applied; see `bake_texture.rs`) and `COLOR_0` holds
-///   the irradiance `H` interpolated smoothly, so that `baseColorTexture *
-///   baseColorFactor * COLOR_0 * radiosityScale` is the drawn radiosity
-///   `rho(texel) H` in both modes ([`BakeColour::Radiosity`] writes the
-///   texture's factor as `baseColorFactor` of the unlit material). Emission
-///   cannot be added to that product by an unlit material: a textured
-///   material that emits is baked in [`BakeColour::Radiosity`] as an
-///   untextured one (radiosity per vertex, the texture dropped); in
-///   [`BakeColour::Light`] its emission stays on the material as the mean
-///   `emissiveFactor`, as for untextured ones. Emissive textures are not
-///   kept: their detail is lost, their mean remains.
-/// - `asset.extras.radiosity` records the colour mode and the formula.
+///   use); vertices are shared only within a surface, where the radiosity is
+///   continuous. Materials are unlit (`KHR_materials_unlit`) and white, or
+///   keep their base-colour texture and factor.
+/// - `COLOR_0` is what a viewer that draws vertex colours on unlit materials
+///   with no tone mapping of its own (three.js's default) must show to match
+///   `radiosity render`: each vertex's radiance (radiosity / pi) times
+///   `2^exposure`, tone mapped (`options`), one exposure for the whole file.
+///   On a kept texture the colour is the display value of the mean texel's
+///   radiance over the mean reflectance, so that texel times colour shows
+///   the texture's detail around it (where that would exceed 1 it is
+///   clipped, counted in a warning). Textured materials that emit are baked
+///   untextured.
+/// - Light group `k` is the attribute `_GROUP_k`: its radiosity per vertex
+///   (its irradiance on kept textures) divided by its scale, a power of two;
+///   `asset.extras.radiosity` lists the groups' names, attributes and scales,
+///   the exposure and tone map, and the formula. The groups add up to the
+///   whole solution: a viewer that mixes them relights the model.
+/// - The scene's cameras, or when it has none the default view
+///   ([`Camera::framing`](crate::scene::Camera::framing)), with near and far
+///   planes that hold the scene and keep depth resolution.
 ///
-/// [`load_baked`](super::load_baked) reads such a file back into a
-/// [`ShadedMesh`](crate::render::ShadedMesh).
+/// [`load_baked`](super::load_baked) reads such a file back.
 ///
 /// # Errors
 ///
 /// [`Error::Output`](crate::Error::Output) for an unknown extension, a scene
-/// glTF cannot hold, or a display mesh that does not belong to `scene` (a
-/// surface or vertex index out of range, a non-finite radiosity);
-/// [`Error::Io`](crate::Error::Io) if the file cannot be written. The file is
-/// written whole or not at all (see [`crate::output`]): on any error a file
-/// already at `path` (even the scene that was solved) is left as it was.
+/// glTF cannot hold, or a display mesh (or group) that does not belong to
+/// `scene`; [`Error::Io`](crate::Error::Io) if the file cannot be written.
+/// The file is written whole or not at all (see [`crate::output`]).
 pub fn write_baked(
     scene: &Scene,
     shading: &ShadingMesh,
-    colour: BakeColour,
+    groups: &[BakeGroup<'_>],
+    options: &BakeOptions,
     path: &Path,
 ) -> Result<BakeSummary> {
     let mut outputs = Outputs::new();
-    let summary = stage_baked(&mut outputs, scene, shading, colour, path)?;
+    let summary = stage_baked(&mut outputs, scene, shading, groups, options, path)?;
     outputs.commit()?;
     Ok(summary)
 }
@@ -121,51 +147,55 @@ pub fn stage_baked(
     outputs: &mut Outputs,
     scene: &Scene,
     shading: &ShadingMesh,
-    colour: BakeColour,
+    groups: &[BakeGroup<'_>],
+    options: &BakeOptions,
     path: &Path,
 ) -> Result<BakeSummary> {
     let binary = is_binary(path)?;
     check_exportable(scene).map_err(|m| output_error(path, m))?;
     check_shading(scene, shading).map_err(|m| output_error(path, m))?;
+    let whole = [BakeGroup {
+        name: "all",
+        shading,
+    }];
+    let groups = if groups.is_empty() {
+        &whole[..]
+    } else {
+        groups
+    };
+    check_groups(shading, groups).map_err(|m| output_error(path, m))?;
 
-    let kept = kept_textures(scene, shading, colour);
-    let groups = group_triangles(scene, shading);
-    let baked: Vec<Vec<Baked>> = groups
+    let cameras = cameras_to_write(scene);
+    let exposure = options
+        .exposure
+        .unwrap_or_else(|| default_exposure(shading, &cameras[0], options.tone));
+    let display = Display {
+        gain: exposure.exp2(),
+        tone: options.tone,
+    };
+    let kept = kept_textures(scene, shading);
+    let primitives = group_triangles(scene, shading);
+    let baked: Vec<Vec<Baked>> = primitives
         .iter()
         .map(|object| {
             object
                 .iter()
                 .map(|g| {
-                    bake_group(
-                        scene,
-                        shading,
-                        colour,
-                        g,
-                        kept[g.material as usize].as_ref(),
-                    )
+                    let texture = kept[g.material as usize].as_ref();
+                    bake_primitive(scene, shading, groups, display, g, texture)
                 })
                 .collect()
         })
         .collect();
-    let emits = |g: &Group| scene.materials[g.material as usize].is_emitter();
-    let shared_max = groups
-        .iter()
-        .flatten()
-        .zip(baked.iter().flatten())
-        .filter(|(g, _)| colour == BakeColour::Light || !emits(g))
-        .map(|(_, b)| b.max)
-        .fold(0.0, f64::max);
-    let shared_scale = scale_for(shared_max);
+    let mut group_writer = GroupWriter::new(groups, baked.iter().flatten().map(|b| &b.groups));
 
     let mut root = new_root();
-    let mut precise: Vec<(String, Value)> = Vec::new();
+    let mut precise = Vec::new();
     let mut geometry = GeometryWriter { bin: Vec::new() };
     let mut textures = TextureWriter::default();
+    use_extension(&mut root, UNLIT);
     for (i, m) in scene.materials.iter().enumerate() {
-        let mut material = match colour {
-            BakeColour::Light => export_material(i, m, &mut precise),
-            BakeColour::Radiosity => unlit_white(m),
-        };
+        let mut material = unlit_white(m);
         if let Some(t) = &kept[i] {
             let pbr = &mut material.pbr_metallic_roughness;
             pbr.base_color_texture = Some(
@@ -181,16 +211,6 @@ pub fn stage_baked(
                 array(&[f[0], f[1], f[2], 1.0]),
             ));
         }
-        if material
-            .extensions
-            .as_ref()
-            .is_some_and(|e| e.emissive_strength.is_some())
-        {
-            use_extension(&mut root, EMISSIVE_STRENGTH);
-        }
-        if colour == BakeColour::Radiosity {
-            use_extension(&mut root, UNLIT);
-        }
         root.materials.push(material);
     }
 
@@ -199,54 +219,64 @@ pub fn stage_baked(
         vertices: 0,
         triangles: 0,
         bytes: 0,
+        exposure,
+        groups: groups.len(),
+        group_bytes: 0,
+        warnings: Vec::new(),
     };
+    let mut clipped = 0;
     for (o, object) in scene.objects.iter().enumerate() {
-        let mut primitives = Vec::new();
-        let mut scales = Vec::new();
-        for (g, b) in groups[o].iter().zip(&baked[o]) {
-            let scale = if colour == BakeColour::Radiosity && emits(g) {
-                scale_for(b.max)
-            } else {
-                shared_scale
-            };
-            let colours: Vec<[f32; 3]> = b.colours.iter().map(|c| (*c / scale).to_f32()).collect();
+        let mut meshes = Vec::new();
+        for (g, b) in primitives[o].iter().zip(&baked[o]) {
+            let extra = group_writer.attributes(&b.groups);
             let streams = VertexStreams {
                 positions: &b.positions,
-                normals: (colour == BakeColour::Light).then_some(&b.normals[..]),
-                colours: Some(&colours),
+                normals: None,
+                colours: Some(&b.colours),
                 texcoords: b.texcoords.as_deref(),
+                extra: &extra,
             };
-            primitives
-                .push(geometry.triangle_primitive(&mut root, &streams, &b.indices, g.material));
-            scales.push(scale);
+            meshes.push(geometry.triangle_primitive(&mut root, &streams, &b.indices, g.material));
             summary.vertices += b.positions.len();
             summary.triangles += b.indices.len() / 3;
+            clipped += b.clipped;
         }
-        let mesh = (!primitives.is_empty()).then(|| {
+        let mesh = (!meshes.is_empty()).then(|| {
             root.push(Mesh {
                 extensions: None,
                 extras: Default::default(),
                 name: Some(object.name.clone()),
-                primitives,
+                primitives: meshes,
                 weights: None,
             })
         });
-        if let Some(m) = mesh {
-            for (p, scale) in scales.iter().enumerate() {
-                precise.push((
-                    format!("/meshes/{}/primitives/{p}/extras/{SCALE_KEY}", m.value()),
-                    scalar(*scale),
-                ));
-            }
-        }
         nodes.push(root.push(Node {
             name: Some(object.name.clone()),
             mesh,
             ..Node::default()
         }));
     }
-    nodes.extend(export_cameras(&mut root, scene, &mut precise));
-    precise.push(("/asset/extras/radiosity".to_string(), description(colour)));
+    for camera in &cameras {
+        let clip = clip_planes(camera, &shading.positions, &shading.triangles);
+        nodes.push(export_camera(
+            &mut root,
+            camera,
+            (clip.0, Some(clip.1)),
+            &mut precise,
+        ));
+    }
+    summary.group_bytes = group_writer.bytes();
+    precise.push((
+        "/asset/extras/radiosity".to_string(),
+        description(&group_writer, exposure, options.tone),
+    ));
+    if clipped > 0 {
+        summary.warnings.push(format!(
+            "{clipped} vertices on textured materials are brighter than their texture can \
+             show in COLOR_0 at exposure {exposure:.2}: clipped there (their light groups \
+             keep the whole value)"
+        ));
+    }
     summary.bytes = finish(
         root,
         scene,
@@ -344,13 +374,14 @@ fn group_triangles(scene: &Scene, shading: &ShadingMesh) -> Vec<Vec<Group>> {
     groups
 }
 
-/// The vertices of one group, numbered in order of first use, with their
-/// unscaled colours and their surface's normal; with the material's `texture`
-/// kept, the colour is the irradiance and the texture coordinates come along.
-fn bake_group(
+/// The vertices of one primitive, numbered in order of first use, with their
+/// display colours and each group's value; with the material's `texture`
+/// kept, the values are the light and the texture coordinates come along.
+fn bake_primitive(
     scene: &Scene,
     shading: &ShadingMesh,
-    colour: BakeColour,
+    groups: &[BakeGroup<'_>],
+    display: Display,
     g: &Group,
     texture: Option<&Arc<Texture>>,
 ) -> Baked {
@@ -360,29 +391,39 @@ fn bake_group(
     let texels = texture.and_then(|t| Some((t, shading.texels.as_ref()?)));
     let mut out = Baked {
         positions: Vec::new(),
-        normals: Vec::new(),
         colours: Vec::new(),
+        groups: vec![Vec::new(); groups.len()],
         texcoords: texels.map(|_| Vec::new()),
         indices: Vec::with_capacity(3 * g.triangles.len()),
-        max: 0.0,
+        clipped: 0,
     };
     for &t in &g.triangles {
-        let normal = scene.surfaces[shading.triangle_surface[t] as usize].normal;
         for v in shading.triangles[t] {
             let k = *number.entry(v).or_insert_with(|| {
-                let p = shading.positions[v as usize];
-                let c = match (texels, &mut out.texcoords) {
+                let i = v as usize;
+                let p = shading.positions[i];
+                let colour = match (texels, &mut out.texcoords) {
                     (Some((t, x)), Some(texcoords)) => {
-                        let uv = t.transform.transform_point2(x.uv[v as usize]);
+                        let uv = t.transform.transform_point2(x.uv[i]);
                         texcoords.push([uv.x as f32, uv.y as f32]);
-                        x.irradiance[v as usize]
+                        for (values, group) in out.groups.iter_mut().zip(groups) {
+                            let light = group.shading.texels.as_ref().map(|t| t.irradiance[i]);
+                            values.push(light.unwrap_or(Rgb::ZERO).max(Rgb::ZERO));
+                        }
+                        let (c, clipped) =
+                            display.of_irradiance(x.irradiance[i], material.reflectance);
+                        out.clipped += usize::from(clipped);
+                        c
                     }
-                    _ => colour.colour_of(shading.radiosity[v as usize], material),
+                    _ => {
+                        for (values, group) in out.groups.iter_mut().zip(groups) {
+                            values.push(group.shading.radiosity[i].max(Rgb::ZERO));
+                        }
+                        display.of_radiosity(shading.radiosity[i])
+                    }
                 };
                 out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
-                out.normals.push(normal.as_vec3().normalize().to_array());
-                out.max = out.max.max(c.max_band());
-                out.colours.push(c);
+                out.colours.push(colour.to_f32());
                 (out.positions.len() - 1) as u32
             });
             out.indices.push(k);
@@ -391,8 +432,8 @@ fn bake_group(
     out
 }
 
-/// The stand-in for `m` in a radiosity bake: unlit white, no emission (the
-/// vertex colours hold it), named after `m`.
+/// The stand-in for `m` in a bake: unlit white, no emission (the vertex
+/// colours hold it), named after `m`.
 fn unlit_white(m: &Material) -> gltf_json::Material {
     gltf_json::Material {
         name: Some(m.name.clone()),
@@ -410,26 +451,4 @@ fn unlit_white(m: &Material) -> gltf_json::Material {
         }),
         ..Default::default()
     }
-}
-
-/// `asset.extras.radiosity`: the colour mode and how to read the colours.
-fn description(colour: BakeColour) -> Value {
-    let formula = match colour {
-        BakeColour::Light => {
-            "COLOR_0 * radiosityScale is the irradiance (W/m^2) per band, 0 where the \
-             base colour is 0; radiosity = baseColorFactor (times baseColorTexture where \
-             there is one) * COLOR_0 * radiosityScale + pi * emitted radiance \
-             (emissiveFactor * emissiveStrength)"
-        }
-        BakeColour::Radiosity => {
-            "radiosity (exitance, W/m^2) = COLOR_0 * radiosityScale, times baseColorFactor \
-             * baseColorTexture on materials with a texture (COLOR_0 then holds the \
-             irradiance); radiance = radiosity / pi"
-        }
-    };
-    serde_json::json!({
-        "colour": colour.name(),
-        "scaleKey": format!("meshes[].primitives[].extras.{SCALE_KEY}"),
-        "formula": formula,
-    })
 }

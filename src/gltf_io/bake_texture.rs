@@ -11,7 +11,6 @@
 //! times `baseColorFactor` is the reflectance the solve used, up to the 8-bit
 //! rounding of the PNG.
 
-use super::bake_colour::BakeColour;
 use super::export_geometry::GeometryWriter;
 use super::textures::LinearImage;
 use crate::mesh::ShadingMesh;
@@ -24,28 +23,21 @@ use gltf_json::{Image, Index, Root};
 use std::collections::HashMap;
 use std::sync::Arc;
 
-/// Per material of `scene`: the base-colour texture a bake in `colour` keeps,
-/// or `None`. A texture is kept when every display triangle on the material
-/// lies on a textured surface of `shading` (one with texture coordinates), and,
-/// in a [`BakeColour::Radiosity`] bake, the material does not emit: an unlit
-/// glTF material draws base colour times vertex colour and cannot add an
-/// emission on top, so an emitting textured material is baked as an
-/// untextured one is (its radiosity, emission included, in `COLOR_0`).
-pub(super) fn kept_textures(
-    scene: &Scene,
-    shading: &ShadingMesh,
-    colour: BakeColour,
-) -> Vec<Option<Arc<Texture>>> {
+/// Per material of `scene`: the base-colour texture a bake keeps, or `None`.
+/// A texture is kept when every display triangle on the material lies on a
+/// textured surface of `shading` (one with texture coordinates), and the
+/// material does not emit: an unlit glTF material draws base colour times
+/// vertex colour and cannot add an emission on top, so an emitting textured
+/// material is baked as an untextured one is (its radiosity, emission
+/// included).
+pub(super) fn kept_textures(scene: &Scene, shading: &ShadingMesh) -> Vec<Option<Arc<Texture>>> {
     let Some(texels) = &shading.texels else {
         return vec![None; scene.materials.len()];
     };
     let mut kept: Vec<Option<Arc<Texture>>> = scene
         .materials
         .iter()
-        .map(|m| {
-            let drawable = colour == BakeColour::Light || !m.is_emitter();
-            m.base_texture.clone().filter(|_| drawable)
-        })
+        .map(|m| m.base_texture.clone().filter(|_| !m.is_emitter()))
         .collect();
     for &s in &shading.triangle_surface {
         let textured = texels.surfaces.get(s as usize).is_some_and(Option::is_some);

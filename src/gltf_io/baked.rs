@@ -3,6 +3,7 @@
 
 use super::accessors::{read_colours, read_indices, read_positions, read_texcoords};
 use super::bake_colour::{radiosity_from, SCALE_KEY};
+use super::bake_groups::{read_description, BakedGroupInfo};
 use super::buffers::load_buffers;
 use super::cameras::import_camera;
 use super::container::{read_limited, split};
@@ -39,6 +40,12 @@ pub struct BakedScene {
     pub cameras: Vec<Camera>,
     /// The names of the nodes that carried meshes, in the order they were read.
     pub objects: Vec<String>,
+    /// The exposure in stops the file's `COLOR_0` was made with (a bake
+    /// with light groups), which `radiosity render` uses unless told.
+    pub exposure: Option<f64>,
+    /// The file's light groups: their names, attributes and scales (empty for
+    /// a bake made before light groups).
+    pub groups: Vec<BakedGroupInfo>,
     /// Things skipped or ignored, in words a user can act on.
     pub warnings: Vec<String>,
 }
@@ -104,12 +111,17 @@ pub fn load_baked(path: &Path, limits: &ImportLimits) -> Result<BakedScene> {
     let bytes = read_limited(path, limits)?;
     let container = split(path, bytes)?;
     let mut out = BakedScene {
+        mesh: ShadedMesh {
+            cull_back_faces: true,
+            ..ShadedMesh::default()
+        },
         name: path
             .file_stem()
             .map_or_else(|| "baked".to_string(), |s| s.to_string_lossy().into_owned()),
         ..BakedScene::default()
     };
     let doc = parse(path, &container.json, &mut out.warnings)?;
+    (out.exposure, out.groups) = read_description(path, &doc)?;
     let buffers = load_buffers(path, &doc, container.bin, limits)?;
     let mut images = Images::new(&doc, &buffers, path, limits);
     let materials = read_materials(path, &doc, &mut images, &mut out.warnings)?;
@@ -121,6 +133,7 @@ pub fn load_baked(path: &Path, limits: &ImportLimits) -> Result<BakedScene> {
         materials: &materials,
         cache: Cache::default(),
         triangles_read: 0,
+        groups: &out.groups.clone(),
     };
     for placed in walk(path, &doc, limits)? {
         let node = &doc.root.nodes[placed.node];
@@ -239,6 +252,9 @@ struct Reader<'a> {
     materials: &'a [BakedMaterial],
     cache: Cache,
     triangles_read: usize,
+    /// The light groups whose sum is each vertex's value (empty: a version 1
+    /// bake, whose `COLOR_0` times the primitive's scale is).
+    groups: &'a [BakedGroupInfo],
 }
 
 impl Reader<'_> {
@@ -320,6 +336,12 @@ impl Reader<'_> {
                 positions.len()
             )));
         }
+        // A bake with light groups: each vertex's value is their sum.
+        let colours = if self.groups.is_empty() {
+            colours
+        } else {
+            Rc::new(self.group_sum(prim, positions.len()).map_err(&fail)?)
+        };
         let indices = match prim.indices {
             Some(acc) => Some(self.indices(acc.value()).map_err(&fail)?),
             None => None,
@@ -348,6 +370,7 @@ impl Reader<'_> {
         };
         let scale_at = format!("/meshes/{mesh_index}/primitives/{p}/extras/{SCALE_KEY}");
         let scale = match self.doc.raw.pointer(&scale_at) {
+            _ if !self.groups.is_empty() => 1.0,
             None => 1.0,
             Some(v) => v
                 .as_f64()
@@ -442,6 +465,43 @@ impl Reader<'_> {
             });
         }
         Ok(Some((uv, Arc::clone(material))))
+    }
+
+    /// Per vertex of `prim` (`count` of them), the sum of its light groups'
+    /// attributes times their scales.
+    fn group_sum(
+        &mut self,
+        prim: &Primitive,
+        count: usize,
+    ) -> std::result::Result<Vec<[f64; 3]>, String> {
+        let mut sum = vec![[0.0; 3]; count];
+        for g in self.groups {
+            let name = g.attribute.strip_prefix('_').unwrap_or(&g.attribute);
+            let accessor = prim
+                .attributes
+                .get(&Checked::Valid(Semantic::Extras(name.to_string())))
+                .map(|a| a.value())
+                .ok_or_else(|| {
+                    format!(
+                        "no {} attribute for the light group '{}'",
+                        g.attribute, g.name
+                    )
+                })?;
+            let values = self.colours(accessor)?;
+            if values.len() != count {
+                return Err(format!(
+                    "{} has {} values for {count} positions",
+                    g.attribute,
+                    values.len()
+                ));
+            }
+            for (s, v) in sum.iter_mut().zip(values.iter()) {
+                for k in 0..3 {
+                    s[k] += v[k] * g.scale;
+                }
+            }
+        }
+        Ok(sum)
     }
 
     fn positions(&mut self, a: usize) -> std::result::Result<Rc<Vec<DVec3>>, String> {

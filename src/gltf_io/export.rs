@@ -168,7 +168,7 @@ pub(super) fn export_cameras(
     scene
         .cameras
         .iter()
-        .map(|camera| export_camera(root, camera, znear, precise))
+        .map(|camera| export_camera(root, camera, (znear, None), precise))
         .collect()
 }
 
@@ -344,11 +344,12 @@ pub(super) fn export_material(
     }
 }
 
-/// A node carrying a perspective camera placed as `camera`.
-fn export_camera(
+/// A node carrying a perspective camera placed as `camera`, with near and
+/// (if given) far clip distances `clip`.
+pub(super) fn export_camera(
     root: &mut Root,
     camera: &Camera,
-    znear: f64,
+    (znear, zfar): (f64, Option<f64>),
     precise: &mut Vec<(String, Value)>,
 ) -> Index<Node> {
     let index = root.push(gltf_json::Camera {
@@ -357,7 +358,7 @@ fn export_camera(
         perspective: Some(Perspective {
             aspect_ratio: camera.aspect.map(|a| a as f32),
             yfov: camera.yfov as f32,
-            zfar: None,
+            zfar: zfar.map(|f| f as f32),
             znear: znear as f32,
             extensions: None,
             extras: Default::default(),

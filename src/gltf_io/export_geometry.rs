@@ -22,6 +22,9 @@ pub(super) struct VertexStreams<'a> {
     pub colours: Option<&'a [[f32; 3]]>,
     /// Texture coordinates (`TEXCOORD_0`), if any.
     pub texcoords: Option<&'a [[f32; 2]]>,
+    /// Application-specific `VEC3` attributes: (name without the leading
+    /// underscore, values).
+    pub extra: &'a [(String, Vec<[f32; 3]>)],
 }
 
 /// The binary buffer being filled, with the views and accessors that describe it.
@@ -90,6 +93,7 @@ impl GeometryWriter {
                 normals: None,
                 colours: None,
                 texcoords: None,
+                extra: &[],
             },
             &indices,
             material,
@@ -130,6 +134,10 @@ impl GeometryWriter {
                 Type::Vec2,
             ));
             attributes.insert(Checked::Valid(Semantic::TexCoords(0)), a);
+        }
+        for (name, values) in streams.extra {
+            let a = self.vec3_accessor(root, values, false);
+            attributes.insert(Checked::Valid(Semantic::Extras(name.clone())), a);
         }
         let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
         let index_view = self.view(root, &index_bytes, Some(Target::ElementArrayBuffer));

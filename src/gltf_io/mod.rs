@@ -10,10 +10,12 @@
 //!   [`ImportLimits`] before anything is allocated.
 //! - [`write_scene`] writes a scene back as glTF 2.0 so that loading the file again
 //!   gives the same surfaces (within single precision), materials, objects and cameras.
-//! - [`write_baked`] writes a solution: the refined display mesh with per-vertex
-//!   radiosity in `COLOR_0` ([`BakeColour`] says how), one node per object;
-//!   [`load_baked`] reads such a file back as a [`ShadedMesh`](crate::render::ShadedMesh)
-//!   to render from new cameras without solving again.
+//! - [`write_baked`] writes a solution: the refined display mesh with each
+//!   vertex's display colour in `COLOR_0` (what `radiosity render` shows, for
+//!   stock viewers) and each light group's radiosity in an attribute of its
+//!   own, one node per object; [`load_baked`] reads such a file back as a
+//!   [`ShadedMesh`](crate::render::ShadedMesh) to render from new cameras
+//!   without solving again.
 //!
 //! Conventions (see the project's design notes): glTF units are metres; the emitted
 //! radiance is `emissiveFactor * KHR_materials_emissive_strength`, the emitted exitance
@@ -26,6 +28,8 @@ mod accessors;
 mod alpha_mask;
 mod bake;
 mod bake_colour;
+mod bake_display;
+mod bake_groups;
 mod bake_texture;
 mod baked;
 mod buffers;
@@ -54,8 +58,8 @@ mod texture_use;
 mod textures;
 mod uri;
 
-pub use bake::{stage_baked, write_baked, BakeSummary};
-pub use bake_colour::BakeColour;
+pub use bake::{stage_baked, write_baked, BakeGroup, BakeOptions, BakeSummary};
+pub use bake_groups::BakedGroupInfo;
 pub use baked::{load_baked, BakedScene};
 pub use export::{stage_scene, write_scene};
 pub use import::{load_scene, load_scene_with};

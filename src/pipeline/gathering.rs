@@ -6,9 +6,10 @@ use super::strategy::{Next, Solver};
 use super::workspace::Workspace;
 use super::{Progress, SourcePassStats, Stage};
 use crate::error::Result;
-use crate::formfactor::{update_rows_for_splits, RowScene, Sources, SplitPatch};
+use crate::formfactor::{update_rows_for_splits, FormFactors, RowScene, Sources, SplitPatch};
+use crate::light_groups::KeptShapes;
 use crate::math::Rgb;
-use crate::mesh::ElementKey;
+use crate::mesh::{ElementKey, Mesh};
 use crate::refine::mark_sources;
 use crate::solution::Solution;
 use crate::solve::source_shape::{PartViews, SourceShapes};
@@ -46,19 +47,20 @@ const LEVEL_TOLERANCE: f64 = 1e-4;
 
 /// Per patch, the mean of `radiosity` over its leaves weighted as its row
 /// weighs them (see `crate::solve::PatchSystem`), or their area mean when they
-/// weigh nothing.
-fn weighted_patch_means(
-    ws: &Workspace<'_>,
+/// weigh nothing. (Light groups correct their shaped gathers with it too.)
+pub(crate) fn weighted_patch_means(
+    mesh: &Mesh,
+    form_factors: &FormFactors,
     radiosity: &Radiosity,
     leaves: &[ElementKey],
     closed: bool,
 ) -> Vec<Rgb> {
-    let n = ws.mesh.patches.len();
+    let n = mesh.patches.len();
     let (mut weighted, mut by_area) = (vec![(0.0, Rgb::ZERO); n], vec![(0.0, Rgb::ZERO); n]);
     for &k in leaves {
-        let e = &ws.mesh.elements[k];
+        let e = &mesh.elements[k];
         let b = radiosity.element(k);
-        let w = weight(&ws.mesh, &ws.form_factors, k, closed);
+        let w = weight(mesh, form_factors, k, closed);
         let p = e.patch as usize;
         weighted[p].0 += w;
         weighted[p].1 += b * w;
@@ -91,6 +93,10 @@ pub(crate) struct Gathering {
     iterations: usize,
     /// A refinement pass found nothing more to split.
     settled: bool,
+    /// Keep the last shaped gather's factors in the solution (for light
+    /// groups, which gather with them; see `crate::light_groups`).
+    pub(super) keep_shapes: bool,
+    kept: Option<KeptShapes>,
 }
 
 impl Gathering {
@@ -107,6 +113,8 @@ impl Gathering {
             totals: GatherTotals::default(),
             iterations: 0,
             settled: false,
+            keep_shapes: false,
+            kept: None,
         };
         let progress = ws.progress;
         let report = |done| {
@@ -183,7 +191,9 @@ impl Solver for Gathering {
         }
         ws.finish_stats(&self.system, self.report, self.iterations, self.totals);
         ws.stats.warn();
-        ws.into_solution(self.system)
+        let mut solution = ws.into_solution(self.system);
+        solution.light_groups.kept_shapes = self.kept.map(std::sync::Arc::new);
+        solution
     }
 }
 
@@ -327,8 +337,9 @@ impl Gathering {
                 &self.b,
                 &plain_options,
             );
-            let shaped = weighted_patch_means(ws, &ws.radiosity, &leaves, closed);
-            let means = weighted_patch_means(ws, &plain, &leaves, closed);
+            let (mesh, ff) = (&ws.mesh, &ws.form_factors);
+            let shaped = weighted_patch_means(mesh, ff, &ws.radiosity, &leaves, closed);
+            let means = weighted_patch_means(mesh, ff, &plain, &leaves, closed);
             let change: Vec<Rgb> = shaped.iter().zip(&means).map(|(s, m)| *s - *m).collect();
             let largest = self.b.iter().map(|x| x.max_band()).fold(0.0, f64::max);
             let moved = last.as_ref().map_or(f64::INFINITY, |last| {
@@ -388,6 +399,13 @@ impl Gathering {
         }
         ws.stats.shaped_corrections.push(corrections);
         ws.stats.seconds.solve += t.elapsed().as_secs_f64();
+        if self.keep_shapes {
+            self.kept = Some(KeptShapes {
+                shapes,
+                near,
+                corrections,
+            });
+        }
         true
     }
 

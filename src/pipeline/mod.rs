@@ -19,7 +19,9 @@ mod stats;
 mod strategy;
 mod workspace;
 
+pub(crate) use gathering::weighted_patch_means;
 pub use progress::{Progress, Stage};
+pub(crate) use scale::times_pow2;
 pub use settings::{Settings, DEFAULT_MAX_MEMORY, DEFAULT_SHAPED_GATHERS, MAX_SHAPED_GATHERS};
 pub use shooting::Preview;
 pub use skips::Skips;
@@ -70,6 +72,20 @@ pub fn solve_with_previews(
             Err(e) => Err(ws.explain(e)),
         },
     }
+}
+
+/// Solves `scene` like [`solve`] with the gathering solver, keeping the last
+/// shaped gather's factors in the solution for its light groups (see
+/// [`crate::light_groups`]).
+pub(crate) fn solve_keeping_shapes(
+    scene: &Scene,
+    settings: &Settings,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Solution> {
+    let mut ws = Workspace::prepare(scene, settings, progress)?;
+    let mut solver = Gathering::start(&mut ws)?;
+    solver.keep_shapes = true;
+    drive(ws, solver)
 }
 
 /// Runs `solver` to the end: refinement passes whenever it asks for one.

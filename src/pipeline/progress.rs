@@ -19,6 +19,9 @@ pub enum Stage {
     /// Hemi-cubes drawn again in a shaped gather, to see near patches part
     /// by part (`Settings::part_views`).
     PartViews,
+    /// Light groups solved one by one on the refined mesh
+    /// ([`crate::light_groups`]).
+    LightGroups,
     /// Progressive shooting; `done / total` is the progress of the unshot
     /// fraction from 1 to the tolerance on a log scale.
     Shoot {

@@ -167,7 +167,7 @@ fn binary_exponent(x: f64) -> i32 {
 
 /// `x * 2^k`, exact while the result stays a normal double: in two steps, as
 /// `2^k` alone may not be representable.
-fn times_pow2(x: f64, k: i32) -> f64 {
+pub(crate) fn times_pow2(x: f64, k: i32) -> f64 {
     let half = k / 2;
     x * pow2(half) * pow2(k - half)
 }

@@ -453,6 +453,7 @@ impl Workspace<'_> {
             system,
             stats: self.stats,
             texel_surfaces: crate::solution::texel_surfaces(self.scene),
+            light_groups: Default::default(),
         }
     }
 }

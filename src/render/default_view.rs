@@ -84,6 +84,7 @@ mod tests {
             values: Vec::new(),
             triangles: Vec::new(),
             texels: None,
+            cull_back_faces: false,
         };
         // Room A (x 0..6) lit, room B (x 6..10) dark, joined by a door at
         // z 2..3; a lamp under A's ceiling is the brightest.

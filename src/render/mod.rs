@@ -55,7 +55,8 @@ pub use image::HdrImage;
 pub use lines::{draw_segments, draw_segments_depth_tested};
 pub use shaded_mesh::{ShadedMesh, Texels};
 pub use tonemap::{
-    auto_exposure, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE, AUTO_EXPOSURE_TARGET,
+    auto_exposure, auto_exposure_above, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE,
+    AUTO_EXPOSURE_TARGET,
 };
 pub use write::{
     read_hdr_image, stage_exr, stage_exr_and_png, stage_hdr, stage_png, stage_rgb8_png, write_exr,

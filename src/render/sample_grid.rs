@@ -223,6 +223,9 @@ impl Prepared<'_> {
             let Some(s) = shading else {
                 return;
             };
+            if !s.front && self.mesh.cull_back_faces {
+                return;
+            }
             let (sx, sy) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
             let inverse_depth = s.inverse_depth_at(sx, sy);
             let tested = if s.front {

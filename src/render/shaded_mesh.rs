@@ -13,7 +13,9 @@ use std::sync::Arc;
 ///
 /// Triangles are counter-clockwise seen from their front. A triangle seen from
 /// behind renders black but still hides what lies behind it: surfaces are
-/// single-sided, and their back neither emits nor reflects.
+/// single-sided, and their back neither emits nor reflects. With
+/// `cull_back_faces` it is left out instead, as glTF viewers draw the
+/// single-sided materials of a bake.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShadedMesh {
     /// Vertex positions in world space.
@@ -25,6 +27,11 @@ pub struct ShadedMesh {
     pub triangles: Vec<[u32; 3]>,
     /// Texture detail, `None` when no triangle shows a texture.
     pub texels: Option<Texels>,
+    /// Leave out triangles seen from behind rather than draw them black
+    /// (glTF's single-sided materials: [`load_baked`](crate::gltf_io::load_baked)
+    /// sets it, so that `render` of a bake shows what viewers show, and the
+    /// back copies of double-sided surfaces never show through the front).
+    pub cull_back_faces: bool,
 }
 
 /// Where a [`ShadedMesh`] shows textures. On a triangle with a material, the
@@ -54,6 +61,7 @@ impl ShadedMesh {
                 values: shading.radiosity.iter().map(|b| *b / PI).collect(),
                 triangles: shading.triangles,
                 texels: None,
+                cull_back_faces: false,
             };
         };
         let mut values: Vec<Rgb> = shading.radiosity.iter().map(|b| *b / PI).collect();
@@ -75,6 +83,7 @@ impl ShadedMesh {
                 uv: light.uv,
                 materials,
             }),
+            cull_back_faces: false,
         }
     }
 
@@ -140,6 +149,7 @@ mod tests {
             values: vec![Rgb::ONE; 3],
             triangles: vec![[0, 1, 2]],
             texels: None,
+            cull_back_faces: false,
         }
     }
 

@@ -150,11 +150,19 @@ pub const AUTO_EXPOSURE_PERCENTILE: f64 = 0.97;
 /// surfaces) and non-finite pixels are left out; with nothing left, 0.
 #[must_use]
 pub fn auto_exposure(img: &HdrImage, tone: ToneMap) -> f64 {
+    auto_exposure_above(img, tone, 0.0)
+}
+
+/// [`auto_exposure`] leaving out pixels whose luminance is at most `floor`
+/// as well: numerical noise on surfaces no light reaches (1e-12 of a lamp)
+/// is not to be exposed for when nothing else is in view.
+#[must_use]
+pub fn auto_exposure_above(img: &HdrImage, tone: ToneMap, floor: f64) -> f64 {
     let mut lum: Vec<f64> = img
         .pixels
         .iter()
         .map(|p| p.luminance())
-        .filter(|l| l.is_finite() && *l > 0.0)
+        .filter(|l| l.is_finite() && *l > 0.0 && *l > floor)
         .collect();
     if lum.is_empty() {
         return 0.0;
@@ -222,6 +230,21 @@ mod tests {
         assert_eq!(ToneMap::AcesFitted.apply(Rgb::ZERO), Rgb::ZERO);
         assert_eq!(ToneMap::Reinhard.apply(Rgb::splat(f64::INFINITY)), Rgb::ONE);
         assert_eq!(ToneMap::Reinhard.apply(Rgb::splat(f64::NAN)), Rgb::ZERO);
+    }
+
+    #[test]
+    fn a_floor_leaves_out_noise_that_alone_would_set_the_exposure() {
+        let mut img = HdrImage::new(4, 1);
+        img.set(0, 0, Rgb::splat(1e-12));
+        img.set(1, 0, Rgb::splat(2e-12));
+        // Noise alone: exposed up to display grey.
+        assert!(auto_exposure(&img, ToneMap::Clamp) > 35.0);
+        // Above a floor of 1e-6, nothing is left: no exposure change.
+        assert_eq!(auto_exposure_above(&img, ToneMap::Clamp, 1e-6), 0.0);
+        // A lit pixel above the floor sets it: 0.8 / 0.4 is one stop.
+        img.set(2, 0, Rgb::splat(0.4));
+        let stops = auto_exposure_above(&img, ToneMap::Clamp, 1e-6);
+        assert!((stops - 1.0).abs() < 1e-9, "{stops}");
     }
 
     #[test]

@@ -1,11 +1,13 @@
 //! The view-independent solution: element, patch and vertex radiosities,
 //! per-object means, probes at points, and a view of each leaf.
 
+mod groups;
 mod leaf;
 mod objects;
 mod probe;
 mod texels;
 
+pub(crate) use groups::GroupParts;
 pub use leaf::Leaf;
 pub(crate) use objects::object_means;
 pub use objects::ObjectRadiosity;
@@ -31,6 +33,9 @@ pub struct Solution {
     /// Per scene surface, what a textured one shows; empty when no surface
     /// is textured.
     pub(crate) texel_surfaces: Vec<Option<TexelSurface>>,
+    /// The light groups' solutions, if the solve made them (see
+    /// [`crate::light_groups`]).
+    pub(crate) light_groups: GroupParts,
 }
 
 impl Solution {

@@ -28,6 +28,7 @@ mod hostile_files;
 mod hostile_import;
 mod hostile_outputs;
 mod inputs_kept;
+mod light_groups;
 mod lights;
 mod logo_mesh;
 mod memory_limits;

@@ -207,7 +207,7 @@ fn unshot_runs(reports: &[Progress]) -> Vec<Vec<f64>> {
                 unshot_fraction, ..
             } => runs.last_mut().unwrap().push(unshot_fraction),
             Stage::FormFactors { .. } => runs.push(Vec::new()),
-            Stage::Solve | Stage::PartViews | Stage::SharedRows { .. } => {}
+            Stage::Solve | Stage::PartViews | Stage::SharedRows { .. } | Stage::LightGroups => {}
         }
     }
     runs

@@ -7,7 +7,7 @@
 
 use glam::{DVec2, DVec3};
 use radiosity::analytic::point_to_polygon;
-use radiosity::gltf_io::{load_baked, write_baked, BakeColour, ImportLimits};
+use radiosity::gltf_io::{load_baked, write_baked, BakeOptions, ImportLimits};
 use radiosity::math::Rgb;
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, HdrImage};
@@ -321,9 +321,10 @@ fn srgb_to_linear(b: u8) -> f64 {
     }
 }
 
-/// The floor primitive of a baked file: per vertex position, `COLOR_0 *
-/// radiosityScale`, `TEXCOORD_0`, and the base colour's texture value there
-/// (nearest texel of the decoded image, times `baseColorFactor`).
+/// The floor primitive of a baked file: per vertex position, the light (its
+/// one light group's attribute times the group's scale), `TEXCOORD_0`, and
+/// the base colour's texture value there (nearest texel of the decoded
+/// image, times `baseColorFactor`).
 fn baked_floor(path: &Path) -> Vec<(DVec3, f64, DVec2, f64)> {
     let (doc, buffers, images) = gltf::import(path).unwrap();
     let mesh = doc
@@ -337,12 +338,20 @@ fn baked_floor(path: &Path) -> Vec<(DVec3, f64, DVec2, f64)> {
     assert_eq!(info.tex_coord(), 0);
     let factor = f64::from(pbr.base_color_factor()[0]);
     let image = &images[info.texture().source().index()];
-    let extras: serde_json::Value =
-        serde_json::from_str(prim.extras().as_ref().unwrap().get()).unwrap();
-    let scale = extras["radiosityScale"].as_f64().unwrap();
+    let extras = doc.as_json().asset.extras.as_ref().unwrap();
+    let extras: serde_json::Value = serde_json::from_str(extras.get()).unwrap();
+    let scale = extras["radiosity"]["groups"][0]["scale"].as_f64().unwrap();
     let reader = prim.reader(|b| Some(&buffers[b.index()]));
     let positions: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
-    let colours: Vec<[f32; 3]> = reader.read_colors(0).unwrap().into_rgb_f32().collect();
+    let group = prim
+        .attributes()
+        .find(|(s, _)| *s == gltf::Semantic::Extras("GROUP_0".to_string()))
+        .map(|(_, a)| a)
+        .expect("the light group");
+    let colours: Vec<[f32; 3]> =
+        gltf::accessor::Iter::<[f32; 3]>::new(group, |b| Some(&buffers[b.index()]))
+            .unwrap()
+            .collect();
     let uvs: Vec<[f32; 2]> = reader
         .read_tex_coords(0)
         .expect("TEXCOORD_0")
@@ -376,7 +385,7 @@ fn baked_files_keep_the_texture_and_colour_holds_the_light() {
     let sol = solve(&scene);
     let shading = sol.shading_mesh();
     let path = scratch("checker_radiosity.glb");
-    write_baked(&scene, &shading, BakeColour::Radiosity, &path).unwrap();
+    write_baked(&scene, &shading, &[], &BakeOptions::default(), &path).unwrap();
     let vertices = baked_floor(&path);
     assert!(vertices.len() > 100);
     let plain = plain_light();
@@ -397,7 +406,7 @@ fn baked_files_keep_the_texture_and_colour_holds_the_light() {
             (texel / rho - 1.0).abs() < 0.01,
             "texel {texel} vs {rho} at {p}"
         );
-        // ... and texel times COLOR_0 is the drawn radiosity rho(texel) H,
+        // ... and texel times the light is the drawn radiosity rho(texel) H,
         // H the untextured floor's light there (and near the exact one).
         let drawn = texel * light;
         let h = plain
@@ -440,12 +449,18 @@ fn baked_files_keep_the_texture_and_colour_holds_the_light() {
         .map(|(_, light, _, texel)| texel * light)
         .unwrap();
     assert!((baked / drawn - 1.0).abs() < 0.01, "{baked} vs {drawn}");
+}
 
-    // Light mode keeps it too.
-    let path = scratch("checker_light.gltf");
-    write_baked(&scene, &shading, BakeColour::Light, &path).unwrap();
-    let light = baked_floor(&path);
-    assert_eq!(light.len(), vertices.len());
+/// Bakes `sol` (a solve of `scene`, without light groups) to `path`.
+fn bake(scene: &Scene, sol: &Solution, path: &Path) {
+    write_baked(
+        scene,
+        &sol.shading_mesh(),
+        &[],
+        &BakeOptions::default(),
+        path,
+    )
+    .unwrap();
 }
 
 #[test]
@@ -453,7 +468,7 @@ fn untextured_bakes_carry_no_texture_coordinates() {
     let scene = floor_scene(0.5, None);
     let sol = solve(&scene);
     let path = scratch("plain.glb");
-    write_baked(&scene, &sol.shading_mesh(), BakeColour::Radiosity, &path).unwrap();
+    bake(&scene, &sol, &path);
     let (doc, ..) = gltf::import(&path).unwrap();
     assert_eq!(doc.textures().count(), 0);
     assert_eq!(doc.images().count(), 0);
@@ -469,14 +484,11 @@ fn textured_bakes_read_back_render_like_the_solution() {
     let scene = checkered();
     let sol = solve(&scene);
     let direct = render_floor(&sol);
-    for (colour, name) in [
-        (BakeColour::Radiosity, "back_radiosity.glb"),
-        (BakeColour::Light, "back_light.gltf"),
-    ] {
+    for name in ["back.glb", "back.gltf"] {
         let path = scratch(name);
-        write_baked(&scene, &sol.shading_mesh(), colour, &path).unwrap();
+        bake(&scene, &sol, &path);
         let baked = load_baked(&path, &ImportLimits::default()).unwrap();
-        assert!(baked.mesh.texels.is_some(), "{colour}");
+        assert!(baked.mesh.texels.is_some(), "{name}");
         assert!(baked.warnings.is_empty(), "{:?}", baked.warnings);
         let image = render::render(&baked.mesh, &camera(), SIDE, SIDE).unwrap();
         // f32 colours and 8-bit texels: within 1 %, but for pixels on a check
@@ -488,7 +500,7 @@ fn textured_bakes_read_back_render_like_the_solution() {
                 off += usize::from((q[0] / p[0] - 1.0).abs() > 0.01);
             }
         }
-        eprintln!("{colour}: {off} of {lit} pixels off the solution's image by more than 1 %");
+        eprintln!("{name}: {off} of {lit} pixels off the solution's image by more than 1 %");
         assert!(lit > SIDE as usize * SIDE as usize / 2);
         assert!(off * 200 < lit, "{off} of {lit}");
     }

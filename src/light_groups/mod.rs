@@ -1,0 +1,90 @@
+//! Light groups: one refined mesh, one solution per group of sources.
+//!
+//! Radiosity is linear in emission. So the mesh is refined once, for every
+//! light on, and then each group of sources (by default each emissive
+//! material and each punctual light; see [`LightGroups`]) is solved on its
+//! own on that mesh with its rows: the patch system for its emission and the
+//! reflected direct light of its punctual lights, then the gather (see
+//! `solve.rs` for which steps are linear). The solution's radiosity is the
+//! groups' sum, and a mix `sum s_k B_k` stands for the scene with each
+//! group's emission scaled by `s_k` ([`LightGroups::scaled_scene`]): what a
+//! viewer's sliders show without solving again. Without shaped gathers
+//! (`Settings::shaped_gathers` of 0) both are exact to the groups' solver
+//! tolerance ([`GROUP_TOLERANCE`]); a shaped gather's ratios are not linear in
+//! emission, and each group is shaped by its own light, so that a mix differs
+//! from a new solve by a small part of what shaping changes (measured in
+//! `papers/light-groups.md`).
+//!
+//! ```
+//! use radiosity::light_groups::{solve_with_light_groups, LightGroups};
+//! # fn main() -> radiosity::Result<()> {
+//! let scene = radiosity::scenes::cornell_box();
+//! let groups = LightGroups::each(&scene);
+//! let mut solution = solve_with_light_groups(&scene, &Default::default(), &groups, &|_| {})?;
+//! let lamp = solution.with_group(0, |s| s.object_radiosity(&scene));
+//! # assert!(!lamp.is_empty());
+//! # Ok(())
+//! # }
+//! ```
+
+pub(crate) mod mask;
+mod scaled;
+mod solve;
+mod spec;
+mod validate;
+
+pub use solve::GROUP_TOLERANCE;
+pub use spec::{GroupPattern, GroupRule, LightGroup, LightGroups};
+
+use crate::error::{Error, Result};
+use crate::pipeline::{solve_keeping_shapes, Progress, Settings};
+use crate::scene::Scene;
+use crate::solution::Solution;
+use crate::solve::source_shape::{NearWeights, SourceShapes};
+use crate::solve::SolverKind;
+
+/// What the last shaped gather of a solve with every light on leaves for
+/// the groups: the unevenly lit patches and their parts, what their near
+/// receivers weigh of the parts (geometry, and the part views drawn), and
+/// how many corrections of the patch radiosities followed the gather (see
+/// `crate::pipeline`'s gathering solver).
+#[derive(Debug)]
+pub(crate) struct KeptShapes {
+    /// The shaped patches; each group takes their parts' values anew.
+    pub shapes: SourceShapes,
+    /// What near receivers weigh of the parts.
+    pub near: NearWeights,
+    /// Corrections made after the shaped gather.
+    pub corrections: usize,
+}
+
+/// Solves `scene` with `settings` (the mesh refined for every light on),
+/// then each of `groups` on the refined mesh: the solution's radiosity is
+/// their sum, and [`Solution::with_group`] shows one group alone.
+///
+/// # Errors
+///
+/// [`Error::Setting`] (named `light-groups`) for the progressive solver,
+/// whose form factors live in its shots rather than in rows a group could
+/// be gathered with, and when `groups` do not partition the scene's sources
+/// (see [`LightGroups::validate`]); any error of the solve.
+pub fn solve_with_light_groups(
+    scene: &Scene,
+    settings: &Settings,
+    groups: &LightGroups,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Solution> {
+    if settings.solver_kind == SolverKind::Progressive {
+        return Err(Error::Setting {
+            name: "light-groups",
+            message: "light groups need the gathering solver (gauss-seidel): the progressive \
+                      solver keeps its form factors in its shots, not in rows each group \
+                      could be solved with"
+                .to_string(),
+        });
+    }
+    groups.validate(scene)?;
+    let mut solution = solve_keeping_shapes(scene, settings, progress)?;
+    solve::solve_groups(scene, settings, groups, &mut solution, progress)?;
+    Ok(solution)
+}
