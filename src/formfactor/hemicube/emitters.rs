@@ -152,10 +152,10 @@ enum Look {
     Crowded,
     /// Taken from the pixels at the centre, in a row that sees many emitter
     /// polygons, for a small polygon of a patch the pixels saw whole or saw
-    /// none of. A row taken at the points gives it one shadow ray from each
-    /// point instead: what the points see of it may differ from what the
-    /// centre's pixels did (a polygon hidden from the centre by a shadow's
-    /// edge can show to some points).
+    /// none of. A row taken at the points looks at it exactly after all:
+    /// what the points see of it may differ from what the centre's pixels
+    /// did (a polygon hidden from the centre by a shadow's edge can show to
+    /// some points).
     Pixels(f64),
 }
 
@@ -303,15 +303,14 @@ impl Receiver<'_> {
                 mean
             }
             Look::Points { .. } => s.unoccluded,
-            Look::OneRay(_) | Look::Pixels(_) if at_points => {
-                // One ray from each point, as from the centre (a small
-                // polygon the centre's pixels saw whole or hidden may show
-                // otherwise to some point).
+            Look::OneRay(_) if at_points => {
+                // One ray from each point, as from the centre.
                 let open =
                     |p: DVec3| occluders.emitter_centre_visible(sources, p, own_surface, s.polygon);
                 self.mean_over_points(s, open)
             }
             Look::Centre(f) if at_points => at_the_points(f),
+            Look::Pixels(_) if at_points => self.settle(self.first_look(s, hint), true, s, hint),
             Look::Centre(f) | Look::OneRay(f) | Look::Pixels(f) => f,
             Look::Crowded if at_points => at_the_points(at_centre()),
             Look::Crowded => at_centre(),
