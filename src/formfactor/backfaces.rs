@@ -111,13 +111,19 @@ impl ClosedObjects {
     }
 }
 
-/// Per mesh surface, whether another surface lies back to back with it: the
-/// same vertices in reverse order (a `doubleSided` material's two copies).
+/// Per mesh surface, whether a front lies over its back: another surface
+/// lies back to back with it (the same vertices in reverse order), or its
+/// material is double-sided (whose surfaces the importer copied back to
+/// back; where coplanar overlaps were cut out of one copy and not the other,
+/// as where a single-sided decal lies on a double-sided floor, the copies'
+/// pieces no longer match vertex for vertex, but they still cover each
+/// other: 226 surfaces, 2.6% of the area, of a 20 000-triangle cut of a
+/// game level loaded double-sided).
 ///
-/// Wherever such a surface shows its back, its twin shows its front at the
-/// same depth over the same pixels. Drawing the back too adds nothing to what
-/// it hides and lets rounding give the back a share of the pixels the front
-/// should take: light booked on back faces is lost to the solve (on a real
+/// Wherever such a surface shows its back, a front shows at the same depth
+/// over the same pixels. Drawing the back too adds nothing to what it hides
+/// and lets rounding give the back a share of the pixels the front should
+/// take: light booked on back faces is lost to the solve (on a real
 /// double-sided mesh, several per cent of the emitted power). So hemi-cubes
 /// leave these back faces out.
 #[must_use]
@@ -128,7 +134,7 @@ pub(crate) fn back_to_back_twins(mesh: &Mesh) -> Vec<bool> {
         k.sort_unstable();
         k
     };
-    let mut twins = vec![false; mesh.surfaces.len()];
+    let mut twins: Vec<bool> = mesh.surfaces.iter().map(|l| l.double_sided).collect();
     let mut by_corners: HashMap<Vec<[u64; 3]>, Vec<u32>> = HashMap::new();
     for (s, lattice) in mesh.surfaces.iter().enumerate() {
         by_corners

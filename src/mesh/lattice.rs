@@ -80,6 +80,10 @@ pub struct SurfaceLattice {
     pub emission: Rgb,
     /// The scene object this surface belongs to.
     pub object: u32,
+    /// Whether its material is double-sided: the importer (or
+    /// `Scene::make_double_sided`) put a copy of it back to back with it,
+    /// so a front lies over its back wherever the back shows.
+    pub double_sided: bool,
     /// The patch cut.
     pub grid: PatchGrid,
     /// Index of this surface's first top-level cell in `Mesh::top_roots` (the
@@ -164,6 +168,7 @@ impl SurfaceLattice {
                 reflectance,
                 emission,
                 object: surface.object,
+                double_sided: false,
                 grid,
                 first_root,
                 extent,

@@ -125,6 +125,7 @@ impl Mesh {
                 mesh.top_roots.len() as u32,
             );
             let mut lattice = lattice;
+            lattice.double_sided = material.double_sided;
             if surface.uv.len() == surface.vertices.len() {
                 lattice.uv = surface.uv.clone();
                 lattice.texture = material.base_texture.clone();

@@ -26,8 +26,12 @@ pub struct Material {
     /// surface with texture coordinates emits the texture's mean over its
     /// footprint.
     pub emissive_texture: Option<Arc<Texture>>,
-    /// Whether the source material was marked double-sided (informational: the
-    /// importer has already duplicated such surfaces back to back).
+    /// Whether the source material was marked double-sided. The importer
+    /// (and [`Scene::make_double_sided`](super::Scene::make_double_sided))
+    /// has already put a copy of each such surface back to back with it, and
+    /// hemi-cubes rely on that: they do not draw these surfaces' backs, which
+    /// a front always covers. A scene built by hand that sets this must add
+    /// the copies too.
     pub double_sided: bool,
 }
 

@@ -295,3 +295,60 @@ fn the_inside_of_a_narrow_double_sided_tube_open_to_the_sky_matches_the_path_tra
         );
     }
 }
+
+#[test]
+fn a_double_sided_floor_cut_by_a_single_sided_decal_books_no_light_on_backs() {
+    // The floor is double-sided (both windings, as the importer writes
+    // it); the decal on it faces up only, so resolving the overlap cuts it
+    // out of the floor's upper copy and not the lower one, whose back then
+    // lies under pieces that no longer match it vertex for vertex. A canopy
+    // above looks down on it all; the sky comes in from the sides.
+    let mut b = SceneBuilder::new("decal");
+    let floor = b.material("floor", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+    let paint = b.material("paint", Rgb::splat(0.8), Rgb::ZERO).unwrap();
+    let roof = b.material("roof", Rgb::splat(0.6), Rgb::ZERO).unwrap();
+    let (p, q, r, s) = (v(0., 0., 4.), v(4., 0., 4.), v(4., 0., 0.), v(0., 0., 0.));
+    b.object("floor");
+    b.quad(floor, p, q, r, s).unwrap();
+    b.quad(floor, s, r, q, p).unwrap();
+    b.object("decal");
+    b.quad(
+        paint,
+        v(1., 0., 3.),
+        v(3., 0., 3.),
+        v(3., 0., 1.),
+        v(1., 0., 1.),
+    )
+    .unwrap();
+    b.object("canopy");
+    b.quad(
+        roof,
+        v(0., 2., 0.),
+        v(4., 2., 0.),
+        v(4., 2., 4.),
+        v(0., 2., 4.),
+    )
+    .unwrap();
+    let mut scene = b.build().unwrap();
+    scene.materials[floor as usize].double_sided = true;
+    scene.sky = Some(Sky::with_horizontal_illuminance(
+        SkyModel::Uniform,
+        10_000.0,
+    ));
+    // The overlap was resolved on the upper copy only.
+    let floor_pieces = scene
+        .surfaces
+        .iter()
+        .filter(|s| s.material == floor)
+        .count();
+    assert!(floor_pieces > 2, "{floor_pieces} floor surfaces");
+    let sol = radiosity::solve(&scene, &Settings::default(), &|_| {}).unwrap();
+    let energy = &sol.stats().energy;
+    let back = energy.back_face_power[1] / energy.emitted_power[1];
+    assert!(back < 1e-5, "back faces take {back} of the emitted power");
+    assert!(
+        energy.balance_with_escape.abs() < 5e-3,
+        "{}",
+        energy.balance_with_escape
+    );
+}
