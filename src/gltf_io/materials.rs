@@ -199,7 +199,7 @@ pub(super) fn convert_materials(
     }
     if !clamped.is_empty() {
         warnings.push(format!(
-            "reflectance clamped to {} (the most kept, --max-reflectance; near 1 light \
+            "reflectance clamped to {} (the most kept, `max_reflectance`; near 1 light \
              bounces almost for ever and the solve slows and loses accuracy) in {} materials: {}",
             options.max_reflectance,
             clamped.len(),

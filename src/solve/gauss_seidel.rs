@@ -333,7 +333,7 @@ fn iterate<V: Bands>(
             return Err(Error::Solver(format!(
                 "no convergence after {} sweeps: residual {residual:.3e}, error bound {:.3e} \
                  (tolerance {:.1e} of {scale:.3e}): reflectances this close to 1 converge too \
-                 slowly; lower them or loosen --tolerance",
+                 slowly; lower them or loosen `solver.tolerance`",
                 report.iterations, report.error_bound, settings.tolerance
             )));
         }
