@@ -100,7 +100,7 @@ pub(super) fn convert_materials(
                     if let (Some(m), Some(alpha)) = (&mut mask, alpha) {
                         let pointer = format!("{base}/pbrMetallicRoughness/baseColorTexture");
                         let grey = alpha.values.iter().map(|a| [f32::from(*a) / 255.0; 3]).collect();
-                        let grey = Arc::new(super::textures::LinearImage {
+                        let grey = Arc::new(crate::scene::LinearImage {
                             width: alpha.width,
                             height: alpha.height,
                             texels: grey,

@@ -79,12 +79,9 @@ pub(super) const PLAIN_SWEEPS: usize = 8;
 /// it guarantees convergence where the extrapolation might only stall.
 pub(super) const STALL_SWEEPS: usize = 64;
 
-/// The largest contraction factor accepted. Form factors are stored in single
-/// precision, so row sums carry errors of about `1e-7`; a row-sum error `delta`
-/// shifts the solution by about `delta / (1 - q)` relative, which passes 1% when
-/// `1 - q` falls below `1e-5`. Such a system (a closed scene with reflectance
-/// above 0.99999) has no meaningful solution at this precision and is refused.
-pub const MAX_CONTRACTION: f64 = 1.0 - 1e-5;
+// The largest contraction factor accepted bounds the reflectance a scene
+// may hold, so the scene, which checks its materials, owns it.
+pub use crate::scene::MAX_CONTRACTION;
 
 /// A radiosity value the iteration works on: three bands ([`Rgb`]), or one
 /// (`f64`) for a grey scene, whose bands are equal and independent, so one
