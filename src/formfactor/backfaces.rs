@@ -153,7 +153,7 @@ pub(crate) fn back_to_back_twins(mesh: &Mesh) -> Vec<bool> {
 }
 
 /// True when `b` runs through the vertices of `a` in the opposite order.
-fn reversed(a: &[DVec3], b: &[DVec3]) -> bool {
+pub(super) fn reversed(a: &[DVec3], b: &[DVec3]) -> bool {
     let n = a.len();
     n == b.len() && (0..n).any(|shift| (0..n).all(|i| a[i] == b[(shift + n - i) % n]))
 }

@@ -24,6 +24,7 @@
 //! Its light from emitters, which changes fast around what stands on it, is
 //! the mean over up to eight of the visible points.
 
+use super::backfaces::reversed;
 use super::bvh_walk::walk;
 use super::visibility::unit;
 use super::{Occluders, Samples, Sources};
@@ -100,7 +101,12 @@ impl Contacts {
                     |a, b| a.cmple(hi).all() && b.cmpge(lo).all(),
                     |id| {
                         let p = &sources.polygons[id];
-                        if p.surface as usize == s {
+                        // Its own polygons, and its back-to-back twin (the
+                        // other side of a double-sided surface), cover
+                        // nothing of its front.
+                        if p.surface as usize == s
+                            || reversed(v, &mesh.surfaces[p.surface as usize].vertices)
+                        {
                             return true;
                         }
                         let mut piece: Piece =

@@ -162,18 +162,43 @@ impl Occluders {
             if p.surface == skip {
                 return f32::INFINITY;
             }
-            // A hit at or beyond the nearest so far changes nothing: neither
-            // `nearest` nor the ray's end, which it already set nearer.
-            let beyond = nearest.map_or(f64::INFINITY, |(best, _)| best);
+            let front = p.normal.dot(dir) < 0.0;
+            // A hit beyond the nearest so far changes nothing: neither
+            // `nearest` nor the ray's end, which it already set nearer. A
+            // front face at the nearest's depth (within rounding) takes the
+            // place of a back face there: it is the front of a double-sided
+            // surface whose back-to-back twin the ray met first, and the
+            // twin's back hides nothing behind that front. Left to the
+            // order of the BVH, such ties shut in half the points of a
+            // narrow double-sided tube.
+            let beyond = nearest.map_or(f64::INFINITY, |(best, best_front)| {
+                if front && !best_front {
+                    best + tie(best)
+                } else {
+                    best
+                }
+            });
             let Some(t) = hit_distance(&p.vertices[..p.count as usize], p.normal, eye, dir, beyond)
             else {
                 return f32::INFINITY;
             };
-            nearest = Some((t, p.normal.dot(dir) < 0.0));
-            (t + self.pad) as f32
+            let t = match nearest {
+                // Keep the tie's depth, so that ties do not creep along.
+                Some((best, _)) if t > best => best,
+                _ => t,
+            };
+            nearest = Some((t, front));
+            (t + tie(t) + self.pad) as f32
         });
         nearest.map(|(_, front)| front)
     }
+}
+
+/// How far apart two hits along a ray may lie and still be one depth: the
+/// rounding of two back-to-back copies of one polygon, whose planes are
+/// computed from different first vertices.
+fn tie(t: f64) -> f64 {
+    1e-9 * t
 }
 
 /// Distance along the ray from `a` along unit `dir` to the convex planar
@@ -316,5 +341,45 @@ mod tests {
         assert!(!occluders.mostly_open(&sources, eye, DVec3::Z, 0, 10.0));
         // Without the walls' backs in the way it is open.
         assert!(occluders.mostly_open(&sources, DVec3::new(2.0, 0.0, 1e-7), DVec3::Z, 0, 10.0));
+    }
+
+    #[test]
+    fn inside_a_shaft_of_double_sided_walls_a_point_sees_the_walls_fronts() {
+        // The shaft of the test above, each wall with its back-to-back twin
+        // facing in: every ray from inside meets a twin pair at one depth,
+        // and the front must win whichever copy the BVH offers first.
+        let (h, w) = (3.0, 0.5);
+        let c = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let walls = [
+            [c(w, -w, 0.0), c(w, w, 0.0), c(w, w, h), c(w, -w, h)],
+            [c(-w, w, 0.0), c(-w, -w, 0.0), c(-w, -w, h), c(-w, w, h)],
+            [c(w, w, 0.0), c(-w, w, 0.0), c(-w, w, h), c(w, w, h)],
+            [c(-w, -w, 0.0), c(w, -w, 0.0), c(w, -w, h), c(-w, -w, h)],
+        ];
+        let normals = [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y];
+        for fronts_first in [false, true] {
+            let mut polygons = vec![square(DVec3::ZERO, 5.0, DVec3::Z, 0)];
+            let mut outward = Vec::new();
+            let mut inward = Vec::new();
+            for (i, (corners, n)) in walls.iter().zip(normals).enumerate() {
+                let mut back = *corners;
+                back.reverse();
+                outward.push(SourcePolygon::new(corners, n, 1 + 2 * i as u32));
+                inward.push(SourcePolygon::new(&back, -n, 2 + 2 * i as u32));
+            }
+            if fronts_first {
+                polygons.extend(inward.into_iter().chain(outward));
+            } else {
+                polygons.extend(outward.into_iter().chain(inward));
+            }
+            let sources = Sources::one_per_patch(polygons);
+            let occluders = Occluders::new(&sources);
+            let floor = DVec3::new(0.1, -0.2, 1e-7);
+            assert!(occluders.mostly_open(&sources, floor, DVec3::Z, 0, 10.0));
+            assert!(!occluders.is_shut_in(&sources, floor, DVec3::Z, 0));
+            // On the inward face of the +x wall, half way up.
+            let wall = DVec3::new(w - 1e-7, 0.1, 1.5);
+            assert!(occluders.mostly_open(&sources, wall, DVec3::NEG_X, 2, 0.5));
+        }
     }
 }

@@ -77,6 +77,11 @@ pub struct EnergyBalance {
     /// closed scene, up to the errors of the form factors; negative where
     /// light escapes an open scene.
     pub relative_difference: f64,
+    /// `(absorbed + back faces + escaped - emitted) / emitted`, bands
+    /// summed: 0 in any scene, open or closed, up to the errors of the form
+    /// factors (the books of an open scene, where `relative_difference`
+    /// only says how much escaped).
+    pub balance_with_escape: f64,
     /// True when less than [`CLOSED_ESCAPE`] of the emitted power escapes:
     /// `relative_difference` then measures how well the solution conserves
     /// energy, and a warning says so when it is off by more than
@@ -258,6 +263,11 @@ impl EnergyBalance {
             back_face_power: totals.back_faces,
             escaped_power: totals.escaped,
             relative_difference: if e > 0.0 { (ended - e) / e } else { 0.0 },
+            balance_with_escape: if e > 0.0 {
+                (ended + sum(totals.escaped) - e) / e
+            } else {
+                0.0
+            },
             closed: e > 0.0 && sum(totals.escaped) <= CLOSED_ESCAPE * e,
             truncated,
         }

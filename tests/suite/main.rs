@@ -42,6 +42,7 @@ mod penumbra_metrics;
 mod probe;
 mod progressive;
 mod random_scenes;
+mod real_like_mesh;
 mod reference_textures;
 mod scale;
 mod scale_scene;

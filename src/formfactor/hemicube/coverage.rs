@@ -36,6 +36,8 @@ impl Hemicube {
     /// the view back faces fill. The sources may be any polygons with any ids
     /// (patches, or leaf elements for a shooting patch's item buffer); what to
     /// make of the pixels is the caller's choice.
+    /// `hidden_back` marks surfaces whose back faces are not drawn (see
+    /// [`Hemicube::render`]).
     pub(crate) fn coverage(
         &mut self,
         sources: &Sources,
@@ -43,10 +45,11 @@ impl Hemicube {
         normal: DVec3,
         angle: f64,
         own_surface: u32,
+        hidden_back: Option<&[bool]>,
     ) -> ItemCoverage {
         self.render::<true>(
             sources,
-            None,
+            hidden_back,
             eye,
             normal,
             angle,

@@ -126,7 +126,14 @@ impl CellContext<'_> {
             FormFactorMethod::Hybrid => &self.receivers.patch_sources,
             FormFactorMethod::Hemicube => &self.receivers.sources,
         };
-        let seen = cube.coverage(first, s.eye, normal, s.angle, self.surface);
+        let seen = cube.coverage(
+            first,
+            s.eye,
+            normal,
+            s.angle,
+            self.surface,
+            self.receivers.twins.as_deref(),
+        );
         if seen.back_faces > HIDDEN_EYE {
             let can_split = self.level_of(cell) < self.deepest && cell.size() >= 2;
             // The eye is shut in though the cell's leaves are not (their
@@ -240,7 +247,14 @@ impl CellContext<'_> {
         }
         // Every polygon its own item, so that each leaf is counted apart.
         let mixed = Sources::one_per_patch(polygons);
-        let seen = cube.coverage(&mixed, s.eye, normal, s.angle, self.surface);
+        let seen = cube.coverage(
+            &mixed,
+            s.eye,
+            normal,
+            s.angle,
+            self.surface,
+            self.receivers.twins.as_deref(),
+        );
         seen.polygons
             .into_iter()
             .filter(|c| leaf_of[c.id as usize] != u32::MAX)

@@ -1,7 +1,7 @@
 //! The receivers of a shot: the leaf elements in a stable order, as polygons
 //! for the shooter's item buffer (id = position in that order).
 
-use crate::formfactor::{receiving_point, Occluders, Sources};
+use crate::formfactor::{back_to_back_twins, receiving_point, Occluders, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -48,6 +48,12 @@ pub(crate) struct Receivers {
     pub visible: Vec<f64>,
     /// Every patch of `patch_sources` as an occluder, for shadow rays.
     pub occluders: Arc<Occluders>,
+    /// Per surface, whether a back-to-back twin hides its back (see
+    /// `formfactor::back_to_back_twins`); `None` when no surface has one.
+    /// Shooting hemi-cubes leave those backs out, as gathering ones do:
+    /// drawn, they tie in depth with their twins' fronts and rounding gives
+    /// them a share of the pixels the fronts should take.
+    pub twins: Option<Vec<bool>>,
 }
 
 impl Receivers {
@@ -100,6 +106,7 @@ impl Receivers {
             exposure,
             visible,
             occluders: Arc::new(occluders),
+            twins: Some(back_to_back_twins(mesh)).filter(|t| t.iter().any(|&t| t)),
         }
     }
 
