@@ -16,7 +16,8 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // The library names its settings; the CLI says which flag sets each.
+            eprintln!("error: {}", cli::with_flags(format!("{e:#}")));
             ExitCode::FAILURE
         }
     }

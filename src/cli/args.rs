@@ -281,9 +281,9 @@ pub struct SolveSettingsArgs {
     #[arg(long, default_value = "gauss-seidel")]
     pub solver: String,
     /// Progressive: stop when the unshot power is below this fraction of the
-    /// emitted power.
-    #[arg(long = "unshot-tolerance", default_value_t = 1e-4)]
-    pub unshot_tolerance: f64,
+    /// emitted power [default: 1e-4].
+    #[arg(long = "unshot-tolerance")]
+    pub unshot_tolerance: Option<f64>,
     /// Progressive: stop after this many shots.
     #[arg(long = "max-shots")]
     pub max_shots: Option<usize>,
@@ -295,31 +295,35 @@ pub struct SolveSettingsArgs {
     #[arg(long = "preview-every")]
     pub preview_every: Option<usize>,
     /// Split elements whose radiosity differs from a neighbour's by more than
-    /// this fraction of the brightest reflected radiosity (see --dim-floor).
-    #[arg(long = "refine-tolerance", default_value_t = 0.05)]
-    pub refine_tolerance: f64,
+    /// this fraction of the brightest reflected radiosity (see --dim-floor;
+    /// adaptive refinement only) [default: 0.05].
+    #[arg(long = "refine-tolerance")]
+    pub refine_tolerance: Option<f64>,
     /// Measure neighbour differences against the brighter neighbour's
     /// reflected radiosity, but at least this fraction of the scene's
     /// brightest: 1 measures all against the brightest; 0.1 also refines the
     /// contact shadows of dim corridors, for about twice the time on an
     /// interior lit through an opening and several times more in a room lit
-    /// from inside.
-    #[arg(long = "dim-floor", default_value_t = radiosity::refine::DEFAULT_DIM_FLOOR)]
-    pub dim_floor: f64,
+    /// from inside (adaptive refinement only) [default: 1].
+    #[arg(long = "dim-floor")]
+    pub dim_floor: Option<f64>,
     /// The same as --dim-floor, for elements that see surfaces nearer than
     /// their own size over much of their view (the floor under a bench, the
     /// inside of a corner), where the light changes across them: 0.1 refines
     /// the contact shadows of dim regions without refining every dim surface
     /// (on an interior lit through an opening, a third less error for about
-    /// 1.1x the time; in a room lit from inside about 1.3x the time).
-    #[arg(long = "near-floor", default_value_t = radiosity::refine::DEFAULT_NEAR_FLOOR)]
-    pub near_floor: f64,
-    /// Deepest element level below a patch.
-    #[arg(long = "max-depth", default_value_t = 4)]
-    pub max_depth: u8,
-    /// Depth every patch is split to before the first solve.
-    #[arg(long = "initial-depth", default_value_t = 1)]
-    pub initial_depth: u8,
+    /// 1.1x the time; in a room lit from inside about 1.3x the time;
+    /// adaptive refinement only) [default: 1].
+    #[arg(long = "near-floor")]
+    pub near_floor: Option<f64>,
+    /// Deepest element level below a patch (adaptive refinement only)
+    /// [default: 4].
+    #[arg(long = "max-depth")]
+    pub max_depth: Option<u8>,
+    /// Depth every patch is split to before the first solve (adaptive
+    /// refinement only) [default: 1].
+    #[arg(long = "initial-depth")]
+    pub initial_depth: Option<u8>,
     /// Smallest element area in square metres [default: (the scene's size / 1000)^2].
     #[arg(long = "min-element-area")]
     pub min_element_area: Option<f64>,
@@ -349,36 +353,8 @@ pub struct SolveSettingsArgs {
     /// --bounces]
     #[arg(long = "shaped-gathers", value_name = "N")]
     pub shaped_gathers: Option<usize>,
-    /// In shaped gathers, where something hides part of a near unevenly lit
-    /// patch from an element, draw its hemi-cube again with the patch's
-    /// parts and weigh only the parts it sees (the default wherever shaped
-    /// gathers are made; given explicitly, a solve that makes none is
-    /// refused)
-    #[arg(long = "part-views", conflicts_with = "no_part_views")]
-    pub part_views: bool,
-    /// Weigh the parts of a near patch by their unoccluded form factors
-    /// alone, without drawing part views (faster in a cluttered interior,
-    /// less accurate behind piers and plinths; for comparison)
-    #[arg(long = "no-part-views")]
-    pub no_part_views: bool,
-    /// Render a row for every facet of a finely tessellated object, instead
-    /// of one per group of neighbouring facets that face alike (groups that
-    /// come out unevenly lit get rows per facet anyway); slower, for
-    /// comparison.
-    #[arg(long = "per-facet-rows")]
-    pub per_facet_rows: bool,
-    /// Draw every polygon in each hemi-cube, instead of drawing a part of
-    /// the scene that would cover less than a pixel as one sample; slower,
-    /// for comparison.
-    #[arg(long = "no-level-of-detail")]
-    pub no_level_of_detail: bool,
-    /// Refine by neighbour differences only: do not also split the leaves
-    /// that a surface facing them stands closer to than they are wide (a
-    /// seat over a floor, a bench before a wall), whose shadows a leaf's
-    /// centre can miss; faster, for comparison.
-    #[arg(long = "no-facing-split")]
-    pub no_facing_split: bool,
-    /// Subdivide every patch uniformly to this depth instead of adapting.
+    /// Subdivide every patch uniformly to this depth instead of adapting
+    /// (the adaptive refinement's options are then refused).
     #[arg(long = "uniform-depth")]
     pub uniform_depth: Option<u8>,
     /// Keep emitted light and exactly N reflections instead of the full

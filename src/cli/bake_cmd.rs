@@ -7,6 +7,7 @@ use super::checks::{check_exposure, thread_pool};
 use super::group_args::GroupArgs;
 use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
+use super::setting_flags::with_flags;
 use super::solve_cmd::{check_gltf_name, load_options, load_within, settings};
 use super::view_cmd::MAX_VIEWED_GROUPS;
 use super::viewer::write_site;
@@ -71,7 +72,7 @@ pub fn run(a: &BakeArgs) -> Result<()> {
             settings.max_memory,
         )?;
         for w in &scene.warnings {
-            eprintln!("warning: {w}");
+            eprintln!("warning: {}", with_flags(w));
         }
         let settings = solve_settings(&settings, &[])?;
         let scene = a.groups.scaled(scene)?;
@@ -106,7 +107,7 @@ pub fn run(a: &BakeArgs) -> Result<()> {
         };
         let summary = write_baked(&scene, &shading, &bake_groups, &options, &a.output)?;
         for w in &summary.warnings {
-            eprintln!("warning: {w}");
+            eprintln!("warning: {}", with_flags(w));
         }
         if summary.groups > MAX_VIEWED_GROUPS {
             eprintln!(

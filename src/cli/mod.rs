@@ -18,8 +18,10 @@ mod progress_bar;
 mod progress_lines;
 mod reference_cmd;
 mod render_cmd;
+mod setting_flags;
 mod signals;
 mod solve_cmd;
+mod solver_flags;
 mod stdout;
 mod surface_table;
 mod view_args;
@@ -31,6 +33,7 @@ use anyhow::Result;
 use clap::Parser;
 
 pub use args::{Cli, Command};
+pub use setting_flags::with_flags;
 
 /// Parses the command line and runs the chosen subcommand.
 pub fn run() -> Result<()> {

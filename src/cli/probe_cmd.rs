@@ -5,6 +5,7 @@ use super::budget::{solve_settings, PROBE_BYTES_PER_TEXT_BYTE};
 use super::checks::thread_pool;
 use super::outputs::{lock_file, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
+use super::setting_flags::with_flags;
 use super::solve_cmd::{load, load_options, read_text, settings};
 use anyhow::{bail, Context, Result};
 use glam::DVec3;
@@ -62,7 +63,7 @@ fn run_in_pool(a: &ProbeArgs, settings: &Settings) -> Result<()> {
 
     let scene = load(&a.scene, &load_options(&a.settings.load)?)?;
     for w in &scene.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", with_flags(w));
     }
     let rows = points.len() as u64 * 250;
     let settings = &solve_settings(settings, &[("the probe rows", rows)])?;

@@ -4,6 +4,7 @@
 
 use super::cost_watch::CostWatch;
 use super::progress_lines::{stage_name, Lines};
+use super::setting_flags::with_flags;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use radiosity::pipeline::{Progress, Stage};
 use std::io::IsTerminal;
@@ -61,7 +62,7 @@ impl Bars {
     /// Shows one progress report.
     pub fn update(&self, p: Progress) {
         if let Some(w) = self.cost.as_ref().and_then(|c| c.observe(p)) {
-            self.bar.suspend(|| eprintln!("warning: {w}"));
+            self.bar.suspend(|| eprintln!("warning: {}", with_flags(w)));
         }
         if let Some(lines) = &self.lines {
             let line = lines.lock().expect("progress lock").line(p, Instant::now());

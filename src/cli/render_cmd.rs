@@ -1,6 +1,7 @@
 //! `radiosity render`: more views of a baked solution, without solving again.
 
 use super::outputs::{lock_set, output_set, refuse_overwriting_inputs, scene_inputs};
+use super::setting_flags::with_flags;
 use super::view_args::ViewArgs;
 use super::views::{check_view_files, choose_views, write_views};
 use anyhow::Result;
@@ -35,7 +36,7 @@ pub fn run(a: &RenderArgs) -> Result<()> {
     prepare_folder(&a.out)?;
     let baked = load_baked(&a.baked, &ImportLimits::default())?;
     for w in &baked.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", with_flags(w));
     }
     let mut notes = Vec::new();
     let views = choose_views(&plan, &baked.cameras, || {

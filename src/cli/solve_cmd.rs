@@ -5,6 +5,8 @@ use super::budget::{image_bytes, solve_settings};
 use super::checks::{thread_pool, time_budget};
 use super::outputs::{lock_set, output_set, refuse_overwriting_inputs, scene_inputs};
 use super::progress_bar::Bars;
+use super::setting_flags::with_flags;
+use super::solver_flags::refuse_unread;
 use super::view_args::ViewPlan;
 use super::views::{check_view_files, choose_views, write_views, Overlay};
 use anyhow::{bail, Context, Result};
@@ -71,7 +73,7 @@ pub fn load_within(scene: &str, options: &LoadOptions, max_memory: u64) -> Resul
         // What the import left out (a light of a type it does not know)
         // may be why nothing gives light: say it before the refusal.
         for w in &scene.warnings {
-            eprintln!("warning: {w}");
+            eprintln!("warning: {}", with_flags(w));
         }
         return Err(e.into());
     }
@@ -108,9 +110,9 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
         );
     }
     let solver_kind: SolverKind = a.solver.parse().map_err(anyhow::Error::msg)?;
-    if a.preview_every.is_some() && solver_kind != SolverKind::Progressive {
-        bail!("--preview-every needs --solver progressive (Gauss-Seidel has no previews)");
-    }
+    refuse_unread(a, solver_kind)?;
+    let refine = RefineSettings::default();
+    let progressive = ProgressiveSettings::default();
     let settings = Settings {
         hemicube_resolution: a.hemicube_res,
         emitter_sampling: a.emitter_samples.parse().map_err(anyhow::Error::msg)?,
@@ -122,34 +124,26 @@ pub fn settings(a: &SolveSettingsArgs) -> Result<Settings> {
         },
         solver_kind,
         progressive: ProgressiveSettings {
-            tolerance: a.unshot_tolerance,
+            tolerance: a.unshot_tolerance.unwrap_or(progressive.tolerance),
             max_shots: a.max_shots,
             time_budget,
             preview_every: a.preview_every,
-            ..ProgressiveSettings::default()
+            ..progressive
         },
         refine: RefineSettings {
             uniform_depth: a.uniform_depth,
-            initial_depth: a.initial_depth,
-            tolerance: a.refine_tolerance,
-            dim_floor: a.dim_floor,
-            near_floor: a.near_floor,
-            facing_split: !a.no_facing_split,
-            max_depth: a.max_depth,
+            initial_depth: a.initial_depth.unwrap_or(refine.initial_depth),
+            tolerance: a.refine_tolerance.unwrap_or(refine.tolerance),
+            dim_floor: a.dim_floor.unwrap_or(refine.dim_floor),
+            near_floor: a.near_floor.unwrap_or(refine.near_floor),
+            max_depth: a.max_depth.unwrap_or(refine.max_depth),
             min_element_area: a.min_element_area,
             max_elements: a.max_elements.unwrap_or(usize::MAX),
             source_tolerance: (a.source_tolerance > 0.0).then_some(a.source_tolerance),
-            ..RefineSettings::default()
+            ..refine
         },
         bounces: if a.direct_only { Some(1) } else { a.bounces },
         shaped_gathers: a.shaped_gathers,
-        part_views: if a.no_part_views {
-            Some(false)
-        } else {
-            a.part_views.then_some(true)
-        },
-        shared_rows: !a.per_facet_rows,
-        level_of_detail: !a.no_level_of_detail,
         max_patches: a.max_patches.unwrap_or(usize::MAX),
         max_memory: max_memory(a.max_memory)?,
         ..Settings::default()
@@ -271,7 +265,7 @@ fn run_in_pool(
     let scene = load_within(&a.scene, options, settings.max_memory)?;
     let load_seconds = t.elapsed().as_secs_f64();
     for w in &scene.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", with_flags(w));
     }
 
     let views = choose_views(plan, &scene.cameras, || Camera::framing(&scene));
@@ -362,7 +356,7 @@ fn run_in_pool(
 
     let s: &SolveStats = solution.stats();
     for w in &s.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", with_flags(w));
     }
     let warnings: Vec<String> = scene
         .warnings
@@ -370,7 +364,7 @@ fn run_in_pool(
         .chain(&s.warnings)
         .chain(&view_warnings)
         .chain(&bars.cost_warning())
-        .cloned()
+        .map(with_flags)
         .collect();
     outputs.push(json.display().to_string());
     let report = Report {

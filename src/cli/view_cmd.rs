@@ -1,6 +1,7 @@
 //! `radiosity view`: serves a bake and the page that walks through it and
 //! relights it, on the loopback address.
 
+use super::setting_flags::with_flags;
 use super::viewer::server::{serve, Site};
 use super::viewer::{page, scene_name, FILES};
 use anyhow::{bail, Context, Result};
@@ -43,7 +44,7 @@ pub fn run(a: &ViewArgs) -> Result<()> {
         );
     }
     for w in &baked.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", with_flags(w));
     }
     let bytes =
         std::fs::read(&a.baked).with_context(|| format!("reading {}", a.baked.display()))?;

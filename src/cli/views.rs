@@ -2,6 +2,7 @@
 //! NAME.hdr), NAME.png, NAME_false.png, NAME_view2.*, ... Shared by `solve` and
 //! `render`, so both write the same files the same way.
 
+use super::setting_flags::with_flags;
 use super::view_args::{FalseColourScale, ViewArgs, ViewPlan};
 use anyhow::{bail, Result};
 use glam::DVec3;
@@ -59,7 +60,7 @@ pub fn write_views(
         let stem = view_stem(name, i);
         let (image, depth) = render::render_with_depth(mesh, camera, args.width, args.height, 2)?;
         if let Some(w) = black_view(&stem, &image, &depth) {
-            eprintln!("warning: {w}");
+            eprintln!("warning: {}", with_flags(&w));
             warnings.push(w);
         }
         let stops = *exposure.get_or_insert_with(|| render::auto_exposure(&image, tone));

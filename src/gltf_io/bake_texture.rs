@@ -12,9 +12,9 @@
 //! rounding of the PNG.
 
 use super::export_geometry::GeometryWriter;
-use super::textures::LinearImage;
 use crate::mesh::ShadingMesh;
 use crate::render::srgb_encode;
+use crate::scene::LinearImage;
 use crate::scene::{Scene, Texture, Wrap};
 use gltf_json::image::MimeType;
 use gltf_json::texture::{Info, MagFilter, MinFilter, Sampler, WrappingMode};

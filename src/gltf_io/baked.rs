@@ -89,8 +89,7 @@ struct Cache {
 ///   (the scale from the primitive's `extras`, 1 if absent), plus, unless the
 ///   material is unlit (`KHR_materials_unlit`), its emitted exitance
 ///   `pi * emissiveFactor * emissiveStrength`. That gives back the solution's
-///   radiosity for both [`BakeColour`](super::BakeColour)s. The mesh holds
-///   radiance, radiosity / pi.
+///   radiosity. The mesh holds radiance, radiosity / pi.
 /// - A base-colour texture (read through its texture coordinate set, sampler
 ///   and `KHR_texture_transform`) multiplies `baseColorFactor` at every
 ///   sample: such primitives carry the light `radiosityScale * COLOR_0 / pi`

@@ -6,7 +6,7 @@
 //! blocks of texels. Decoder panics are caught, so that a corrupt image cannot
 //! abort the import.
 
-use super::textures::LinearImage;
+use crate::scene::LinearImage;
 use std::io::Cursor;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 

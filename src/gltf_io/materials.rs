@@ -100,7 +100,7 @@ pub(super) fn convert_materials(
                     if let (Some(m), Some(alpha)) = (&mut mask, alpha) {
                         let pointer = format!("{base}/pbrMetallicRoughness/baseColorTexture");
                         let grey = alpha.values.iter().map(|a| [f32::from(*a) / 255.0; 3]).collect();
-                        let grey = Arc::new(super::textures::LinearImage {
+                        let grey = Arc::new(crate::scene::LinearImage {
                             width: alpha.width,
                             height: alpha.height,
                             texels: grey,
@@ -199,7 +199,7 @@ pub(super) fn convert_materials(
     }
     if !clamped.is_empty() {
         warnings.push(format!(
-            "reflectance clamped to {} (the most kept, --max-reflectance; near 1 light \
+            "reflectance clamped to {} (the most kept, `max_reflectance`; near 1 light \
              bounces almost for ever and the solve slows and loses accuracy) in {} materials: {}",
             options.max_reflectance,
             clamped.len(),

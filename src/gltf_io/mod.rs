@@ -58,6 +58,7 @@ mod texture_use;
 mod textures;
 mod uri;
 
+pub use crate::scene::LinearImage;
 pub use bake::{stage_baked, write_baked, BakeGroup, BakeOptions, BakeSummary};
 pub use bake_groups::BakedGroupInfo;
 pub use baked::{load_baked, BakedScene};
@@ -66,7 +67,6 @@ pub use import::{load_scene, load_scene_with};
 pub use inputs::input_files;
 pub use limits::ImportLimits;
 pub use options::{LoadOptions, DEFAULT_MAX_REFLECTANCE};
-pub use textures::LinearImage;
 
 use crate::error::Error;
 use std::path::Path;

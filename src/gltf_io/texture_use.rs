@@ -4,8 +4,8 @@
 
 use super::document::Document;
 use super::precise::{number, numbers};
-use super::textures::LinearImage;
 use crate::math::Rgb;
+use crate::scene::LinearImage;
 use crate::scene::{uv_transform, Texture, Wrap};
 use std::sync::Arc;
 

@@ -94,6 +94,7 @@ impl Outputs {
 
     /// Calls `hook` before each step of the commit with what the step does
     /// (for tests that stop a commit at every step; not needed otherwise).
+    #[doc(hidden)]
     pub fn on_commit_step(&mut self, hook: impl FnMut(&str) + Send + 'static) {
         #[cfg(unix)]
         if let Some(set) = &mut self.set {

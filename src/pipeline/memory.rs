@@ -128,8 +128,8 @@ pub(crate) fn check_needs(needs: &Needs, depth: u8, limit: u64) -> Result<()> {
     }
     let hemicubes = if needs.hemicubes > 0.1 * needs.bytes {
         format!(
-            ", of which {} for the hemi-cubes: a smaller --hemicube-res or fewer --threads \
-             lowers that",
+            ", of which {} for the hemi-cubes: a smaller `hemicube_resolution` or fewer worker \
+             threads lowers that",
             gigabytes(needs.hemicubes as u64)
         )
     } else {
@@ -138,7 +138,7 @@ pub(crate) fn check_needs(needs: &Needs, depth: u8, limit: u64) -> Result<()> {
     Err(Error::Limit(format!(
         "the solve would need at least {} ({} patches split to depth {depth}: {:.0} \
          elements, with rows of at least {} entries{hemicubes}) and the memory limit is {}: \
-         raise --max-memory if the machine has it, or use a larger --patch-size or a \
+         raise `max_memory` if the machine has it, or use a larger `patch_size` or a \
          smaller depth",
         gigabytes(needs.bytes.min(u64::MAX as f64) as u64),
         needs.patches,

@@ -6,6 +6,7 @@
 //! driver marks and splits the leaves that differ from their neighbours and
 //! the solver brings its solution up to the new mesh.
 
+mod fill_stats;
 mod gathering;
 mod light_checks;
 mod memory;
@@ -15,7 +16,6 @@ mod scale;
 mod settings;
 mod shooting;
 mod skips;
-mod stats;
 mod strategy;
 mod workspace;
 
@@ -25,11 +25,13 @@ pub(crate) use scale::times_pow2;
 pub use settings::{Settings, DEFAULT_MAX_MEMORY, DEFAULT_SHAPED_GATHERS, MAX_SHAPED_GATHERS};
 pub use shooting::Preview;
 pub use skips::Skips;
-pub use stats::{DirectFigures, MemoryFigures};
-pub use stats::{
+// The figures of a solve belong to the solution; kept here too, where
+// they were first published.
+pub use crate::solution::{DirectFigures, MemoryFigures};
+pub use crate::solution::{
     EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
 };
-pub use stats::{CLOSED_ESCAPE, ENERGY_WARNING};
+pub use crate::solution::{CLOSED_ESCAPE, ENERGY_WARNING};
 
 use crate::error::Result;
 use crate::scene::Scene;

@@ -216,8 +216,8 @@ impl Settings {
             return bad(
                 "part-views",
                 "part views weigh the parts of unevenly lit patches in shaped gathers, and \
-                 this solve makes none (the progressive solver, --bounces or \
-                 --shaped-gathers 0)"
+                 this solve makes none (the progressive solver, `bounces` or \
+                 `shaped_gathers` 0)"
                     .to_string(),
             );
         }

@@ -90,7 +90,7 @@ impl<'a> Workspace<'a> {
         .map_err(|e| match e {
             Error::Limit(text) if fit < settings.max_patches => Error::Limit(format!(
                 "{text} ({fit} patches is what the memory limit of {} can hold; \
-                 --max-memory raises it)",
+                 `max_memory` raises it)",
                 memory::gigabytes(settings.max_memory)
             )),
             e => e,
@@ -329,7 +329,7 @@ impl<'a> Workspace<'a> {
             self.stats.warnings.push(format!(
                 "{BUDGET}: {} leaves that differ from a neighbour by more than the refinement \
                  tolerance, or that a facing surface stands close to, were left whole (the \
-                 memory limit is {}; --max-memory or --max-elements raise the budget)",
+                 memory limit is {}; `max_memory` or `max_elements` raise the budget)",
                 marks.over_budget,
                 memory::gigabytes(self.settings.max_memory)
             ));

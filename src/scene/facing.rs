@@ -162,7 +162,7 @@ pub(crate) fn facing_warnings(scene: &Scene) -> Vec<String> {
                  their neighbours (they share an edge with a face that runs along it the same \
                  way); those faces reflect light from the side that faces away. Fix the \
                  winding in the modelling tool, or treat every surface as two-sided \
-                 (--double-sided, LoadOptions::double_sided)",
+                 (`double_sided`)",
                 o.against, o.faces
             )
         })

@@ -6,6 +6,13 @@ use crate::math::Rgb;
 use glam::DVec2;
 use std::sync::Arc;
 
+/// The largest contraction factor accepted. Form factors are stored in single
+/// precision, so row sums carry errors of about `1e-7`; a row-sum error `delta`
+/// shifts the solution by about `delta / (1 - q)` relative, which passes 1% when
+/// `1 - q` falls below `1e-5`. Such a system (a closed scene with reflectance
+/// above 0.99999) has no meaningful solution at this precision and is refused.
+pub const MAX_CONTRACTION: f64 = 1.0 - 1e-5;
+
 /// A Lambertian material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {

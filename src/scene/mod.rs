@@ -11,6 +11,7 @@ mod extent;
 mod facing;
 mod framing;
 mod light;
+mod linear_image;
 mod material;
 mod overlaps;
 mod regions;
@@ -26,7 +27,8 @@ pub use coincident_lights::merge_coincident_lights;
 pub use extent::Outliers;
 pub(crate) use facing::facing_warnings;
 pub use light::{range_window, spot_falloff, Incident, Light, LightKind, Target};
-pub use material::Material;
+pub use linear_image::LinearImage;
+pub use material::{Material, MAX_CONTRACTION};
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::{Overlaps, COPLANAR_GAP};
 pub use sky::{sun, Sky, SkyModel};
@@ -190,11 +192,11 @@ impl Scene {
 
     /// Fails with [`Error::Material`](crate::Error::Material) naming the first
     /// material in use whose reflectance exceeds
-    /// [`MAX_CONTRACTION`](crate::solve::MAX_CONTRACTION): the solver would
+    /// [`MAX_CONTRACTION`]: the solver would
     /// refuse it only after the form factors (the glTF importer clamps such
     /// materials; a scene built in code keeps the values it was given).
     pub(crate) fn check_reflectance(&self) -> crate::Result<()> {
-        let limit = crate::solve::MAX_CONTRACTION;
+        let limit = MAX_CONTRACTION;
         let mut used = vec![false; self.materials.len()];
         for s in &self.surfaces {
             used[s.material as usize] = true;

@@ -8,7 +8,7 @@
 //! element's reflectance is the texture averaged over the element's footprint
 //! (see [`Texture::mean_over`]).
 
-use crate::gltf_io::LinearImage;
+use super::LinearImage;
 use crate::math::Rgb;
 use glam::{DMat3, DVec2};
 use smallvec::SmallVec;

@@ -5,6 +5,7 @@ mod groups;
 mod leaf;
 mod objects;
 mod probe;
+mod stats;
 mod texels;
 
 pub(crate) use groups::GroupParts;
@@ -12,12 +13,15 @@ pub use leaf::Leaf;
 pub(crate) use objects::object_means;
 pub use objects::ObjectRadiosity;
 pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
+pub use stats::{
+    DirectFigures, EnergyBalance, HemicubeFigures, MemoryFigures, PassStats, SkipStats, SolveStats,
+    SourcePassStats, StageSeconds, CLOSED_ESCAPE, ENERGY_WARNING,
+};
 pub(crate) use texels::texel_surfaces;
 
 use crate::formfactor::FormFactors;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh, ShadingMesh, TexelSurface, VertexRadiosity};
-use crate::pipeline::SolveStats;
 use crate::render::ShadedMesh;
 use crate::scene::Scene;
 use crate::solve::{PatchSystem, Radiosity};

@@ -79,12 +79,9 @@ pub(super) const PLAIN_SWEEPS: usize = 8;
 /// it guarantees convergence where the extrapolation might only stall.
 pub(super) const STALL_SWEEPS: usize = 64;
 
-/// The largest contraction factor accepted. Form factors are stored in single
-/// precision, so row sums carry errors of about `1e-7`; a row-sum error `delta`
-/// shifts the solution by about `delta / (1 - q)` relative, which passes 1% when
-/// `1 - q` falls below `1e-5`. Such a system (a closed scene with reflectance
-/// above 0.99999) has no meaningful solution at this precision and is refused.
-pub const MAX_CONTRACTION: f64 = 1.0 - 1e-5;
+// The largest contraction factor accepted bounds the reflectance a scene
+// may hold, so the scene, which checks its materials, owns it.
+pub use crate::scene::MAX_CONTRACTION;
 
 /// A radiosity value the iteration works on: three bands ([`Rgb`]), or one
 /// (`f64`) for a grey scene, whose bands are equal and independent, so one
@@ -333,7 +330,7 @@ fn iterate<V: Bands>(
             return Err(Error::Solver(format!(
                 "no convergence after {} sweeps: residual {residual:.3e}, error bound {:.3e} \
                  (tolerance {:.1e} of {scale:.3e}): reflectances this close to 1 converge too \
-                 slowly; lower them or loosen --tolerance",
+                 slowly; lower them or loosen `solver.tolerance`",
                 report.iterations, report.error_bound, settings.tolerance
             )));
         }

@@ -5,6 +5,7 @@ mod adaptive;
 mod atrium;
 mod awkward_geometry;
 mod bake;
+mod cli_reference;
 mod cli_run;
 mod clusters;
 mod common;

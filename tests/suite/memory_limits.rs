@@ -42,7 +42,9 @@ fn a_scene_that_cannot_fit_is_refused_before_any_form_factor() {
         .unwrap_err();
         let text = e.to_string();
         assert!(matches!(e, Error::Limit(_)), "{text}");
-        assert!(text.contains("--max-memory"), "{text}");
+        // The library names the setting, never the CLI's flag.
+        assert!(text.contains("`max_memory`"), "{text}");
+        assert!(!text.contains("--"), "{text}");
         assert_eq!(*stages.lock().unwrap(), 0, "no stage may start");
         if limit == 400_000 {
             assert!(text.contains("would need at least"), "{text}");
@@ -83,7 +85,7 @@ fn refinement_stops_where_the_rows_would_not_fit_with_a_warning() {
             stats
                 .warnings
                 .iter()
-                .any(|w| w.contains("element budget") && w.contains("--max-memory")),
+                .any(|w| w.contains("element budget") && w.contains("`max_memory`")),
             "{kind:?}: {:?}",
             stats.warnings
         );
@@ -127,7 +129,8 @@ fn a_depth_or_image_the_limit_cannot_hold_is_refused_before_it_is_allocated() {
     let cases: [(&[&str], &[&str]); 3] = [
         (
             &["--uniform-depth", "10", "--max-memory", "2"],
-            &["depth 10", "GB", "2.0 GB"],
+            // The CLI prints the library's `max_memory` as its flag.
+            &["depth 10", "GB", "2.0 GB", "raise --max-memory"],
         ),
         (
             &[

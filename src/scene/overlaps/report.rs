@@ -82,8 +82,8 @@ pub(super) fn refusal(scene: &Scene, found: &Found) -> Error {
     Error::Geometry(format!(
         "{} pairs of surfaces with different materials overlap in one plane, facing the same \
          way: {}. The hemi-cube cannot tell which is in front, so one would hide the other \
-         from the whole scene. Let the importer resolve them (Overlaps::Resolve, \
-         `--overlaps resolve`, the default: the smaller layer covers the larger), or move one \
+         from the whole scene. Let the importer resolve them (`overlaps` resolve, the \
+         default: the smaller layer covers the larger), or move one \
          off the other by at least {:.3e} m (1e-4 of the scene's size), or cut a hole for it",
         found.pairs.len() + found.duplicates.len(),
         listing(scene, found, " and "),

@@ -1,15 +1,15 @@
 //! A large interior built in code: an atrium, the size series of the scale
 //! work (10 000 to 1 000 000 triangles).
 //!
-//! A rectangular court open to the sky, [`plan::COURT`] metres wide and
+//! A rectangular court open to the sky, 12 metres wide and
 //! `4 * bays` long, between two long sides that each have, from the outside
 //! in: an ambulatory behind an arcade of columns and semicircular arches,
 //! then two storeys of galleries (balconies) with columns and balustrades
 //! opening onto the court, under a flat roof. The short sides are plain end
 //! walls. Banners hang in front of the top gallery's columns and on the end
 //! walls; tables, benches, planters and a fountain stand on the floor. The
-//! roof's opening is lit by an emitting sky quad [`shell::SKY_HEIGHT`] metres
-//! above it, facing down, with radiance [`palette::SKY_RADIANCE`] (relative
+//! roof's opening is lit by an emitting sky quad 3 metres
+//! above it, facing down, with radiance (0.9, 1.0, 1.15) (relative
 //! units: W m^-2 sr^-1 if you like; only ratios matter to the images, whose
 //! exposure is automatic). A sun can be added from [`SUN_DIRECTION`] as a
 //! directional [`Light`](crate::scene::Light); the built-in scene has none,
@@ -50,10 +50,10 @@ mod columns;
 mod court;
 mod furniture;
 mod generator;
-pub mod palette;
-pub mod plan;
+mod palette;
+mod plan;
 mod shapes;
-pub mod shell;
+mod shell;
 mod sink;
 mod size;
 mod trig;

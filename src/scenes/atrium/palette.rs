@@ -12,7 +12,7 @@ use crate::math::Rgb;
 /// exitance (the 10 000-triangle solve at default settings: mean floor
 /// radiosity 0.26, irradiance about 0.57); only ratios matter to images at
 /// automatic exposure.
-pub const SKY_RADIANCE: Rgb = Rgb([0.9, 1.0, 1.15]);
+pub(super) const SKY_RADIANCE: Rgb = Rgb([0.9, 1.0, 1.15]);
 
 /// Indices of the materials, registered with the sink in this order.
 #[derive(Clone, Copy, Debug)]

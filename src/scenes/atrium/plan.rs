@@ -13,29 +13,29 @@
 use glam::DVec3;
 
 /// Distance between column axes along the court (m).
-pub const BAY: f64 = 4.0;
+pub(super) const BAY: f64 = 4.0;
 /// Half the side of a column's square plinth, pedestal and abacus, and half
 /// the thickness of the arcade wall the arches cut (m).
-pub const PIER_HALF: f64 = 0.35;
+pub(super) const PIER_HALF: f64 = 0.35;
 /// Height of the ground columns' abacus tops, where the arches spring (m).
-pub const SPRING: f64 = 3.3;
+pub(super) const SPRING: f64 = 3.3;
 /// Thickness of the floor slabs and the roof (m).
-pub const SLAB: f64 = 0.5;
+pub(super) const SLAB: f64 = 0.5;
 /// Clear height of a gallery storey, floor to ceiling (m).
-pub const STOREY: f64 = 3.8;
+pub(super) const STOREY: f64 = 3.8;
 /// Number of gallery storeys above the arcade.
-pub const GALLERIES: usize = 2;
+pub(super) const GALLERIES: usize = 2;
 /// Depth of the ground-floor ambulatory, outer wall to arcade (m).
-pub const AMBULATORY: f64 = 4.0;
+pub(super) const AMBULATORY: f64 = 4.0;
 /// Width of the open court between the arcades' faces (m).
-pub const COURT: f64 = 12.0;
+pub(super) const COURT: f64 = 12.0;
 /// Height of the balustrades and of the upper columns' pedestals (m).
-pub const PARAPET_HEIGHT: f64 = 1.0;
+pub(super) const PARAPET_HEIGHT: f64 = 1.0;
 /// Thickness of the balustrades (m).
-pub const PARAPET_THICKNESS: f64 = 0.25;
+pub(super) const PARAPET_THICKNESS: f64 = 0.25;
 
 /// The radius of the ground arches: half a bay less the abacus they spring from.
-pub const ARCH_RADIUS: f64 = BAY / 2.0 - PIER_HALF;
+pub(super) const ARCH_RADIUS: f64 = BAY / 2.0 - PIER_HALF;
 
 /// Heights and positions derived from the number of bays.
 #[derive(Clone, Copy, Debug)]

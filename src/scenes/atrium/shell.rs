@@ -10,14 +10,14 @@ use crate::error::Result;
 use glam::DVec3;
 
 /// Height of the sky quad above the roof (m).
-pub const SKY_HEIGHT: f64 = 3.0;
+pub(super) const SKY_HEIGHT: f64 = 3.0;
 /// How far the sky quad reaches beyond each end wall (m). The opening ends
 /// at the end walls, so without it a point of the court would see, just over
 /// the far end wall's top, the gap under the sky's edge instead of sky; with
 /// it no point within `2 * roof` metres of an end wall does. Across the
 /// court the roofs already reach well beyond the opening, so the sky stops
 /// at the outer walls: sky beyond them would light only the void outside.
-pub const SKY_OVERHANG: f64 = 2.0 * SKY_HEIGHT;
+pub(super) const SKY_OVERHANG: f64 = 2.0 * SKY_HEIGHT;
 
 /// Adds `floor`, `end_wall_west`, `end_wall_east`, then per side
 /// `ambulatory_SIDE`, `gallery_SIDE_K`, `facade_SIDE` and `roof_SIDE`, and

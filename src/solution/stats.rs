@@ -1,11 +1,8 @@
 //! Figures of a solve, serialisable as the stats JSON.
 
-use super::Settings;
-use crate::formfactor::hemicube::HemicubeStats;
-use crate::formfactor::{FormFactors, Row};
+use crate::formfactor::FormFactors;
 use crate::math::Rgb;
 use crate::mesh::Mesh;
-use crate::scene::Scene;
 use crate::solve::{GatherTotals, PatchSystem, Radiosity, SolveReport};
 use serde::Serialize;
 
@@ -91,7 +88,7 @@ pub struct EnergyBalance {
     /// [`ENERGY_WARNING`].
     pub closed: bool,
     /// True when the solve kept a fixed number of reflections
-    /// ([`Settings::bounces`]), or a progressive solve stopped before its
+    /// ([`Settings::bounces`](crate::Settings::bounces)), or a progressive solve stopped before its
     /// unshot power met the tolerance (a shot limit or a time budget): the
     /// light still travelling is in neither figure, so `relative_difference`
     /// is negative even in a closed scene. It then measures the truncation,
@@ -109,7 +106,7 @@ pub const CLOSED_ESCAPE: f64 = 1e-3;
 pub const ENERGY_WARNING: f64 = 0.01;
 
 /// Work the solve left out because the scene did not need it (see
-/// [`super::Skips`]).
+/// [`crate::pipeline::Skips`]).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct SkipStats {
     /// Element rows not computed: their surface reflects nothing.
@@ -139,18 +136,6 @@ pub struct SkipStats {
     /// Facets that later got rows of their own because their group differed
     /// from a neighbouring one.
     pub groups_unshared: usize,
-}
-
-impl SkipStats {
-    /// Adds the row figures of a solve.
-    pub(crate) fn add_rows(&mut self, tally: &super::skips::RowTally) {
-        let h = &tally.hemicube;
-        self.zero_reflectance_rows += tally.zero_reflectance_rows;
-        self.exact_rows += h.exact_rows;
-        self.empty_faces += h.empty_faces;
-        self.pixels_skipped += h.pixels_skipped;
-        self.back_faces_skipped += h.back_faces_skipped;
-    }
 }
 
 /// One refinement pass.
@@ -232,7 +217,7 @@ pub struct SolveStats {
     pub source_passes: Vec<SourcePassStats>,
     /// Refinement passes.
     pub passes: Vec<PassStats>,
-    /// Per shaped gather ([`Settings::shaped_gathers`]), the patches seen by
+    /// Per shaped gather ([`Settings::shaped_gathers`](crate::Settings::shaped_gathers)), the patches seen by
     /// their parts because their elements differ.
     pub shaped_sources: Vec<usize>,
     /// Per shaped gather, how many times the patch radiosities were solved
@@ -245,7 +230,7 @@ pub struct SolveStats {
     /// Largest remaining neighbour difference (relative), at the last check.
     pub final_max_difference: f64,
     /// What was computed: `None` (JSON `null`) the full solution, `Some(n)`
-    /// emitted light and exactly `n` reflections ([`Settings::bounces`]).
+    /// emitted light and exactly `n` reflections ([`Settings::bounces`](crate::Settings::bounces)).
     pub bounces: Option<u32>,
     /// Work left out because the scene did not need it.
     pub skips: SkipStats,
@@ -262,61 +247,6 @@ pub struct SolveStats {
     /// energy balance is off by more than [`ENERGY_WARNING`], refinement
     /// stopped by the element or memory budget.
     pub warnings: Vec<String>,
-}
-
-impl SolveStats {
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn finish(
-        &mut self,
-        mesh: &Mesh,
-        form_factors: &FormFactors,
-        radiosity: &Radiosity,
-        system: &PatchSystem,
-        scene: &Scene,
-        settings: &Settings,
-        report: SolveReport,
-        iterations: usize,
-        totals: GatherTotals,
-        hemicube: HemicubeStats,
-    ) {
-        self.surfaces = scene.surfaces.len();
-        self.patches = mesh.patches.len();
-        self.patch_size = settings.patch_size_for(scene);
-        let leaves = mesh.leaves();
-        self.elements = leaves.len();
-        // Leaves left without rows because they reflect nothing have no row
-        // sum to report; shut-in leaves sum to 0.
-        let sums: Vec<f64> = leaves
-            .iter()
-            .filter(|k| form_factors.state(**k).is_computed())
-            .map(|k| form_factors.row(*k).map_or(0.0, Row::sum))
-            .collect();
-        self.hemicube = HemicubeFigures {
-            resolution: settings.hemicube_resolution,
-            hemicubes: hemicube.hemicubes,
-            polygons_rasterized: hemicube.polygons_rasterized,
-            pixels_tested: hemicube.pixels_tested,
-            polygons_culled: hemicube.polygons_culled,
-            element_form_factors: form_factors.row_entries(),
-            patch_form_factors: system.nonzeros(),
-            mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,
-            max_row_sum: sums.iter().copied().fold(0.0, f64::max),
-            emitters_exact: hemicube.emitters_exact,
-            emitters_one_ray: hemicube.emitters_one_ray,
-            emitters_by_pixels: hemicube.emitters_by_pixels,
-        };
-        self.memory = MemoryFigures::of(mesh, form_factors, radiosity, system);
-        self.solver = report;
-        self.total_iterations = iterations;
-        self.energy = EnergyBalance::of(&totals, settings.bounces.is_some());
-        self.bounces = settings.bounces;
-    }
-
-    /// Adds the warnings the figures call for (see [`SolveStats::warnings`]);
-    /// once, when they are final.
-    pub(crate) fn warn(&mut self) {
-        self.warnings.extend(self.energy.warning());
-    }
 }
 
 impl EnergyBalance {
