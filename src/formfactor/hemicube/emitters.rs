@@ -23,6 +23,8 @@ use super::Hemicube;
 use crate::formfactor::{point_to_polygon, EmitterVisibility, PixelHint, PointsMean, Row, Sources};
 use crate::math::polygon_area;
 use glam::DVec3;
+use smallvec::SmallVec;
+use std::cell::Cell;
 
 /// A row that sees more emitter polygons than this treats those seen as
 /// less than a pixel with one shadow ray each.
@@ -309,8 +311,35 @@ impl Receiver<'_> {
                     |p: DVec3| occluders.emitter_centre_visible(sources, p, own_surface, s.polygon);
                 self.mean_over_points(s, open)
             }
+            Look::Pixels(_) if at_points => {
+                // Rays first, the exact look only where they leave doubt (it
+                // cost 2.7 times the CPU of the lamp of the real scenes at
+                // every such polygon). A patch the centre's pixels saw whole
+                // whose polygon's centre every point sees takes the points'
+                // rays; one they saw none of, hidden from every point at its
+                // centre and near each corner, stays hidden. Elsewhere a
+                // shadow's edge may cross the polygon as the points see it
+                // (one ray to the centre alone left an element of a furnace
+                // beside a box 0.27% off), and the exact look decides.
+                let shut = Cell::new(0u32);
+                let sees = |p: DVec3| {
+                    let seen = occluders.emitter_centre_visible(sources, p, own_surface, s.polygon);
+                    shut.set(shut.get() + u32::from(!seen));
+                    seen
+                };
+                match hint {
+                    PixelHint::Whole => {
+                        let mean = self.mean_over_points(s, sees);
+                        if shut.get() == 0 {
+                            return mean;
+                        }
+                    }
+                    PixelHint::Hidden if self.hidden_from_points(s) => return 0.0,
+                    _ => {}
+                }
+                self.settle(self.first_look(s, hint), true, s, hint)
+            }
             Look::Centre(f) if at_points => at_the_points(f),
-            Look::Pixels(_) if at_points => self.settle(self.first_look(s, hint), true, s, hint),
             Look::Centre(f) | Look::OneRay(f) | Look::Pixels(f) => f,
             Look::Crowded if at_points => at_the_points(at_centre()),
             Look::Crowded => at_centre(),
@@ -331,6 +360,24 @@ impl Receiver<'_> {
             hint,
         );
         s.unoccluded * fraction
+    }
+
+    /// Whether no point of the element sees the seen polygon `s` at its
+    /// centre or near any of its corners (or sees only its back).
+    fn hidden_from_points(&self, s: Seen) -> bool {
+        let poly = &self.sources.polygons[s.polygon as usize];
+        let corners = poly.corners();
+        let centre = corners.iter().copied().sum::<DVec3>() / corners.len() as f64;
+        let occluders = self.visibility.occluders;
+        let skip = [self.own_surface, poly.surface];
+        let targets =
+            std::iter::once(centre).chain(corners.iter().map(|&c| c + (centre - c) * 0.05));
+        let targets: SmallVec<[DVec3; 5]> = targets.collect();
+        self.visibility.samples.iter().all(|&(p, _)| {
+            targets.iter().all(|&t| {
+                poly.normal.dot(p - t) <= 0.0 || !occluders.clear(self.sources, p, t, skip)
+            })
+        })
     }
 
     /// The mean over the element's points from which `sees` holds of their
