@@ -12,8 +12,8 @@
 use radiosity::formfactor::FormFactorMethod;
 use radiosity::math::Rgb;
 use radiosity::pipeline::{solve_with_previews, Preview};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::refine::RefineSettings;
-use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{scenes, Settings};
 use std::time::Instant;
 

@@ -56,13 +56,13 @@
 //!   visibility of emitters; kept per element in a [`formfactor::FormFactors`]
 //!   store with the state of each row.
 //! - [`solve`](mod@solve): the patch system assembled from the rows, solved by
-//!   Gauss-Seidel ([`solve::gauss_seidel`]) or by progressive shooting
-//!   ([`solve::progressive`]), and the gather to elements; the result is a
-//!   [`solve::Radiosity`] per element and patch.
+//!   Gauss-Seidel ([`solve::gauss_seidel`]), and the gather to elements; the
+//!   result is a [`solve::Radiosity`] per element and patch.
 //! - [`refine`]: where to split elements (neighbour differences) and sources.
 //! - [`pipeline`]: the one driver of both solvers: [`Settings`], checks before
 //!   any form factor, meshing, refinement passes, progress and the figures of
-//!   a run ([`pipeline::SolveStats`]).
+//!   a run ([`pipeline::SolveStats`]); the progressive solver (shooting, with
+//!   previews: [`pipeline::SolverKind::Progressive`]) lives there whole.
 //! - [`solution`]: what a solve gives: [`Solution`], per-object means, leaf
 //!   views, radiosity at points, the display mesh.
 //! - [`render`]: images from any camera, tone mapping, HDR and PNG files;

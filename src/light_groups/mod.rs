@@ -37,11 +37,11 @@ pub use solve::GROUP_TOLERANCE;
 pub use spec::{GroupPattern, GroupRule, LightGroup, LightGroups};
 
 use crate::error::{Error, Result};
+use crate::pipeline::SolverKind;
 use crate::pipeline::{solve_keeping_shapes, Progress, Settings};
 use crate::scene::Scene;
 use crate::solution::Solution;
 use crate::solve::source_shape::{NearWeights, SourceShapes};
-use crate::solve::SolverKind;
 
 /// What the last shaped gather of a solve with every light on leaves for
 /// the groups: the unevenly lit patches and their parts, what their near

@@ -5,6 +5,7 @@ mod groups;
 mod leaf;
 mod objects;
 mod probe;
+mod progressive_stats;
 mod stats;
 mod texels;
 
@@ -13,6 +14,7 @@ pub use leaf::Leaf;
 pub(crate) use objects::object_means;
 pub use objects::ObjectRadiosity;
 pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
+pub use progressive_stats::{HistoryPoint, ProgressiveStats, ShootingPass, StopReason};
 pub use stats::{
     DirectFigures, EnergyBalance, HemicubeFigures, MemoryFigures, PassStats, SkipStats, SolveStats,
     SourcePassStats, StageSeconds, CLOSED_ESCAPE, ENERGY_WARNING,

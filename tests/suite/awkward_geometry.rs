@@ -12,8 +12,8 @@ use super::stress_scenes::{
 use glam::DVec3;
 use radiosity::analytic::lambert;
 use radiosity::math::Rgb;
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::scene::{Overlaps, Scene, SceneBuilder};
-use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{Settings, Solution};
 
 const FURNACE_RHO: f64 = 0.5;

@@ -7,9 +7,9 @@
 
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::reference::{Reference, ReferenceSettings};
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::solve::SolverKind;
 use radiosity::Settings;
 
 fn v(x: f64, y: f64, z: f64) -> DVec3 {

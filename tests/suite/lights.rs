@@ -4,10 +4,10 @@
 
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::reference::{Reference, ReferenceSettings};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Light, Scene, SceneBuilder};
-use radiosity::solve::SolverKind;
 use radiosity::{Settings, Solution};
 use std::f64::consts::PI;
 

@@ -3,8 +3,8 @@
 //! refines until the rows it measures would not, and says so.
 
 use crate::stress_scenes::lit_room_with_box;
+use radiosity::pipeline::SolverKind;
 use radiosity::refine::RefineSettings;
-use radiosity::solve::SolverKind;
 use radiosity::{Error, Settings};
 
 fn settings(max_memory: u64, kind: SolverKind) -> Settings {

@@ -8,9 +8,9 @@ use radiosity::analytic::{furnace_radiosity, unit_cube_ceiling_lit};
 use radiosity::formfactor::FormFactorMethod;
 use radiosity::math::Rgb;
 use radiosity::pipeline::{solve_with_previews, Progress, Stage};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::refine::RefineSettings;
-use radiosity::solve::progressive::StopReason;
-use radiosity::solve::{ProgressiveSettings, SolverKind};
+use radiosity::solution::StopReason;
 use radiosity::{scenes, Settings, Solution};
 use std::sync::Mutex;
 use std::time::Duration;
@@ -64,7 +64,7 @@ fn gathered_and_shot(
     (gathered, shot)
 }
 
-fn stats(sol: &Solution) -> &radiosity::solve::progressive::ProgressiveStats {
+fn stats(sol: &Solution) -> &radiosity::solution::ProgressiveStats {
     sol.stats()
         .progressive
         .as_ref()

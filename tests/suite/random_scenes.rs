@@ -9,9 +9,9 @@ use super::stress_scenes::{
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 use radiosity::math::Rgb;
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{Settings, Solution};
 
 /// One floating box: its cell of a 2 x 2 grid on the floor (so boxes never

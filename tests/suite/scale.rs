@@ -2,7 +2,7 @@
 //! room at a millimetre or ten kilometres across must give the same numbers.
 
 use super::stress_scenes::{assert_finite_non_negative, leaves, lit_room_with_box, quick_settings};
-use radiosity::solve::{ProgressiveSettings, SolverKind};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::Settings;
 
 #[test]

@@ -4,9 +4,9 @@
 use glam::{DVec2, DVec3};
 use radiosity::gltf_io::{load_scene, ImportLimits};
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder, Texture};
-use radiosity::solve::SolverKind;
 use radiosity::{Settings, Solution};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
