@@ -1,6 +1,7 @@
 //! The view-independent solution: element, patch and vertex radiosities,
 //! per-object means, probes at points, and a view of each leaf.
 
+mod emission_mask;
 mod groups;
 mod leaf;
 mod objects;
@@ -9,6 +10,7 @@ mod progressive_stats;
 mod stats;
 mod texels;
 
+pub(crate) use emission_mask::{mask, unmask};
 pub(crate) use groups::GroupParts;
 pub use leaf::Leaf;
 pub(crate) use objects::object_means;
