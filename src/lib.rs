@@ -47,7 +47,7 @@
 //!   geometry decoded ([`gltf_io::LoadOptions`]); a scene without light is
 //!   refused. Punctual lights ([`scene::Light`], `KHR_lights_punctual`) are
 //!   sources outside the mesh: their direct light, with exact shadows, enters
-//!   the solvers as a first reflection ([`solve::DirectLight`]).
+//!   the solvers as a first reflection.
 //!   [`scene::Camera::framing`] gives a default view.
 //! - [`mesh`]: surfaces cut into patches, each the root of an element quadtree
 //!   ([`mesh::Mesh`]): geometry and topology only.

@@ -59,10 +59,10 @@ mod textures;
 mod uri;
 
 pub use crate::scene::LinearImage;
-pub use bake::{stage_baked, write_baked, BakeGroup, BakeOptions, BakeSummary};
+pub use bake::{write_baked, BakeGroup, BakeOptions, BakeSummary};
 pub use bake_groups::BakedGroupInfo;
 pub use baked::{load_baked, BakedScene};
-pub use export::{stage_scene, write_scene};
+pub use export::write_scene;
 pub use import::{load_scene, load_scene_with};
 pub use inputs::input_files;
 pub use limits::ImportLimits;

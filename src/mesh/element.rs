@@ -33,7 +33,7 @@ pub struct Patch {
 impl Patch {
     /// True for a face cluster: a patch of several surfaces.
     #[must_use]
-    pub fn is_cluster(&self) -> bool {
+    pub(crate) fn is_cluster(&self) -> bool {
         self.roots.len() > 1
     }
 }

@@ -15,14 +15,13 @@ mod shading;
 mod texels;
 mod welds;
 
-pub(crate) use cell::Probe;
-pub use cell::{Cell, MAX_DEPTH};
+pub use cell::Cell;
+pub(crate) use cell::{Probe, MAX_DEPTH};
 pub use element::{Element, ElementKey, Patch};
 pub(crate) use lattice::PatchGrid;
 pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity, HIDDEN_WEIGHT};
 pub use texels::{ShadingTexels, TexelSurface};
-pub use welds::SMOOTH_ANGLE_DEGREES;
 
 use crate::error::{Error, Result};
 use crate::math::{polygon_area, polygon_centroid, Rgb};
@@ -313,7 +312,7 @@ impl Mesh {
     /// area-weighted mean of its roots' (the texture over the patch's
     /// footprint, which refinement below it does not change).
     #[must_use]
-    pub fn patch_reflectance(&self, p: u32) -> Rgb {
+    pub(crate) fn patch_reflectance(&self, p: u32) -> Rgb {
         self.patch_value(
             p,
             |s| s.texture.is_some(),

@@ -28,11 +28,10 @@ pub use settings::{Settings, DEFAULT_MAX_MEMORY, DEFAULT_SHAPED_GATHERS, MAX_SHA
 pub use skips::Skips;
 // The figures of a solve belong to the solution; kept here too, where
 // they were first published.
-pub use crate::solution::{DirectFigures, MemoryFigures};
 pub use crate::solution::{
-    EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
+    DirectFigures, EnergyBalance, HemicubeFigures, MemoryFigures, PassStats, SkipStats, SolveStats,
+    SourcePassStats, StageSeconds,
 };
-pub use crate::solution::{CLOSED_ESCAPE, ENERGY_WARNING};
 
 use crate::error::Result;
 use crate::scene::Scene;

@@ -19,8 +19,9 @@ pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
 pub use progressive_stats::{HistoryPoint, ProgressiveStats, ShootingPass, StopReason};
 pub use stats::{
     DirectFigures, EnergyBalance, HemicubeFigures, MemoryFigures, PassStats, SkipStats, SolveStats,
-    SourcePassStats, StageSeconds, CLOSED_ESCAPE, ENERGY_WARNING,
+    SourcePassStats, StageSeconds,
 };
+pub use stats::{CLOSED_ESCAPE, ENERGY_WARNING};
 pub(crate) use texels::texel_surfaces;
 
 use crate::formfactor::FormFactors;

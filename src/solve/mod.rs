@@ -21,8 +21,7 @@ pub(crate) mod source_shape;
 mod system;
 
 pub(crate) use bounces::gather_bounces;
-pub use bounces::MAX_BOUNCES;
-pub use direct::DirectLight;
+pub(crate) use direct::DirectLight;
 pub use gather::{gather, GatherTotals};
 pub(crate) use gather::{gather_with, shaped_factors, shaped_weights, GatherOptions};
 pub use gauss_seidel::{gauss_seidel, SolveReport, SolverSettings, MAX_CONTRACTION};

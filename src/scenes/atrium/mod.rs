@@ -58,7 +58,7 @@ mod sink;
 mod size;
 mod trig;
 
-pub use size::{AtriumSize, BALUSTERS_FROM, MAX_BAYS, MAX_DENSITY, MIN_BAYS, MIN_DENSITY};
+pub use size::{AtriumSize, MAX_BAYS, MAX_DENSITY, MIN_BAYS, MIN_DENSITY};
 
 use crate::error::Result;
 use crate::scene::{Scene, SceneBuilder};
