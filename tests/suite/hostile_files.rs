@@ -207,7 +207,8 @@ fn try_file(name: &str, bytes: &[u8], tally: &Tally) -> Result<(), String> {
                 if !(e.radiosity.is_finite() && e.radiosity.min_band() >= 0.0) {
                     return Err(format!(
                         "element at {} has radiosity {:?}",
-                        e.centroid, e.radiosity.0
+                        e.centroid(),
+                        e.radiosity.0
                     ));
                 }
             }

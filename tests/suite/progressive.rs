@@ -98,8 +98,8 @@ fn furnace_converges_to_e_over_one_minus_rho() {
         };
         let (mut sum, mut area) = (0.0, 0.0);
         for e in sol.leaves() {
-            sum += e.radiosity[0] * e.area;
-            area += e.area;
+            sum += e.radiosity[0] * e.area();
+            area += e.area();
             for band in 0..3 {
                 assert!(
                     rel(e.radiosity[band], exact) < tolerance,
@@ -189,9 +189,9 @@ fn agrees_per_surface(
     for (i, patch) in shot.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
         for k in shot.mesh().patch_leaves(i as u32) {
-            sum += shot.radiosity().element(k) * shot.mesh()[k].area;
+            sum += shot.radiosity().element(k) * shot.mesh()[k].area();
         }
-        let mean = sum / patch.area;
+        let mean = sum / patch.area();
         assert!((mean - shot.patch_radiosity()[i]).abs().max_band() <= 1e-9 * mean.max_band());
     }
 }
@@ -672,7 +672,7 @@ fn with_gathered_rows_it_converges_to_the_gauss_seidel_solution_itself() {
         assert!(
             d < 1e-6 * brightest,
             "{:?}: {:?} vs {:?}",
-            g.cell,
+            g.cell(),
             p.radiosity,
             g.radiosity
         );

@@ -140,7 +140,7 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     let mut worst_row: f64 = 0.0;
     for e in leaves(&sol) {
         // A black receiver gets no row: it reflects nothing of what it sees.
-        if sol.mesh().surfaces()[e.surface as usize]
+        if sol.mesh().surfaces()[e.surface() as usize]
             .reflectance
             .max_band()
             == 0.0
@@ -177,10 +177,10 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     for (i, p) in sol.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
         for k in sol.mesh().patch_leaves(i as u32) {
-            sum += sol.radiosity().element(k) * sol.mesh()[k].area;
+            sum += sol.radiosity().element(k) * sol.mesh()[k].area();
         }
         for band in 0..3 {
-            let mean = sum[band] / p.area;
+            let mean = sum[band] / p.area();
             prop_assert!(
                 (mean - sol.patch_radiosity()[i][band]).abs() <= 1e-5 * brightest,
                 "patch {}: elements {} patch {}",
