@@ -86,7 +86,7 @@ pub mod report;
 pub mod scene;
 pub mod scenes;
 
-pub use error::{Error, Result};
+pub use error::{Error, GltfKind, GltfObject, Result};
 pub mod formfactor;
 pub mod mesh;
 pub mod pipeline;
