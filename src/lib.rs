@@ -35,6 +35,26 @@
 //! command-line tool and the time-versus-error reports ([`report`]); build with
 //! `default-features = false` for the library alone.
 //!
+//! ## What a program uses
+//!
+//! - load: [`gltf_io::load_scene`] (options in [`gltf_io::LoadOptions`]), or
+//!   a scene built in code ([`scene::SceneBuilder`], [`scenes`]);
+//! - settings: [`Settings`] (Gauss-Seidel or progressive:
+//!   [`pipeline::SolverKind`]);
+//! - solve: [`solve()`], [`pipeline::solve_with_previews`], and
+//!   [`light_groups::solve_with_light_groups`] for separately mixable lights;
+//! - query: [`Solution`] (per-object means, leaves, radiosity at points,
+//!   the display mesh, [`Solution::stats`]);
+//! - render: [`render::render`], tone mapping and image files;
+//! - bake: [`gltf_io::write_baked`];
+//! - reference: [`reference::Reference`], the independent path tracer;
+//! - errors: [`Error`], whose variants name the file, glTF object
+//!   ([`GltfObject`]), material, light or setting at fault.
+//!
+//! The other modules are public for tests, benchmarks and the study of the
+//! method (form factors, meshes, solvers, exact oracles); the items no
+//! program needs are crate-private.
+//!
 //! ## Brief overview
 //!
 //! The pipeline runs one way, one module per stage:
