@@ -64,8 +64,13 @@ pub enum Error {
         message: String,
     },
     /// A configured limit (triangles, elements, memory) was reached.
-    #[error("limit reached: {0}")]
-    Limit(String),
+    #[error("limit reached: {message}")]
+    Limit {
+        /// Which limit.
+        limit: LimitKind,
+        /// What would have exceeded it, naming the file where there is one.
+        message: String,
+    },
     /// The solver could not converge, or met a numerically unusable system.
     #[error("solver: {0}")]
     Solver(String),
@@ -122,6 +127,28 @@ pub enum GltfKind {
     Image,
 }
 
+/// The limits an [`Error::Limit`] names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum LimitKind {
+    /// Bytes of a file or of a buffer it declares
+    /// (`ImportLimits::max_file_bytes`).
+    FileBytes,
+    /// Triangles of a file (`ImportLimits::max_triangles`) or of a built-in
+    /// scene.
+    Triangles,
+    /// Nesting of a file's nodes (`ImportLimits::max_node_depth`).
+    NodeDepth,
+    /// Patches of the mesh (`Settings::max_patches`).
+    Patches,
+    /// Elements of the mesh (the refinement's element budget).
+    Elements,
+    /// Bytes of the solve (`Settings::max_memory`).
+    Memory,
+    /// Cells of an adaptive quadrature that did not meet its tolerance.
+    QuadratureCells,
+}
+
 /// The library's result type.
 pub type Result<T> = std::result::Result<T, Error>;
 
@@ -152,6 +179,11 @@ impl Error {
             },
             other => other,
         }
+    }
+
+    /// An [`Error::Limit`] of `limit`.
+    pub(crate) fn limit(limit: LimitKind, message: String) -> Self {
+        Error::Limit { limit, message }
     }
 
     /// An I/O error for `path`.

@@ -6,7 +6,7 @@ use glam::DVec3;
 use radiosity::gltf_io::{load_scene, load_scene_with, ImportLimits, LoadOptions};
 use radiosity::scene::Overlaps;
 use radiosity::scene::Scene;
-use radiosity::{Error, GltfKind, GltfObject};
+use radiosity::{Error, GltfKind, GltfObject, LimitKind};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -426,7 +426,13 @@ fn a_node_reached_twice_or_nested_too_deep_is_an_error() {
         max_node_depth: 5,
         ..ImportLimits::default()
     };
-    assert!(matches!(load_scene(&deep, &shallow), Err(Error::Limit(_))));
+    assert!(matches!(
+        load_scene(&deep, &shallow),
+        Err(Error::Limit {
+            limit: LimitKind::NodeDepth,
+            ..
+        })
+    ));
 }
 
 // ---------------------------------------------------------------------------
@@ -627,7 +633,13 @@ fn a_file_with_too_many_triangles_hits_the_limit() {
         max_triangles: 1,
         ..ImportLimits::default()
     };
-    assert!(matches!(load_scene(&path, &limits), Err(Error::Limit(_))));
+    assert!(matches!(
+        load_scene(&path, &limits),
+        Err(Error::Limit {
+            limit: LimitKind::Triangles,
+            ..
+        })
+    ));
 }
 
 // ---------------------------------------------------------------------------

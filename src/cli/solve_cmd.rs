@@ -303,7 +303,7 @@ fn run_in_pool(
             previews.write(p)
         })
         .map_err(|e| {
-            let memory = matches!(e, radiosity::Error::Limit(_));
+            let memory = matches!(e, radiosity::Error::Limit { .. });
             let context = if memory {
                 format!(
                     "solving '{}' ({} of the {} --max-memory are the solve's; the rest \

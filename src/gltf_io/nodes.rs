@@ -6,7 +6,7 @@ use super::document::Document;
 use super::limits::ImportLimits;
 use super::precise::numbers;
 use super::{describe, gltf_error, gltf_error_at};
-use crate::error::{Error, GltfKind, GltfObject, Result};
+use crate::error::{Error, GltfKind, GltfObject, LimitKind, Result};
 use glam::{DMat4, DQuat, DVec3};
 use std::path::Path;
 
@@ -72,11 +72,14 @@ pub(super) fn walk(path: &Path, doc: &Document, limits: &ImportLimits) -> Result
         }
         reached[n] = true;
         if depth > limits.max_node_depth {
-            return Err(Error::Limit(format!(
-                "{}: {what} is nested deeper than {} levels",
-                path.display(),
-                limits.max_node_depth
-            )));
+            return Err(Error::limit(
+                LimitKind::NodeDepth,
+                format!(
+                    "{}: {what} is nested deeper than {} levels",
+                    path.display(),
+                    limits.max_node_depth
+                ),
+            ));
         }
         let local = local_transform(doc, n)
             .map_err(|m| gltf_error_at(path, object(), format!("{what}: {m}")))?;

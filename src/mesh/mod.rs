@@ -23,7 +23,7 @@ pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity, HIDDEN_WEIGHT};
 pub use texels::{ShadingTexels, TexelSurface};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::math::{polygon_area, polygon_centroid, Rgb};
 use crate::scene::Scene;
 use slotmap::SlotMap;
@@ -111,10 +111,13 @@ impl Mesh {
             };
             let needed = lattice::patch_count(surface, size);
             if mesh.patches.len() as u64 + needed > max_patches as u64 {
-                return Err(Error::Limit(format!(
-                    "more than {max_patches} patches at patch size {patch_size} m \
+                return Err(Error::limit(
+                    LimitKind::Patches,
+                    format!(
+                        "more than {max_patches} patches at patch size {patch_size} m \
                      (surface {si} alone needs {needed}); raise the patch size or the limit"
-                )));
+                    ),
+                ));
             }
             let (lattice, cells) = SurfaceLattice::new(
                 surface,
