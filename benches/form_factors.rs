@@ -37,13 +37,13 @@ fn hemicube_row(c: &mut Criterion) {
             iter_cpu(b, || {
                 let e = &mesh[receivers[next % receivers.len()]];
                 next += 1;
-                let normal = mesh.surfaces()[e.surface as usize].normal;
+                let normal = mesh.surfaces()[e.surface() as usize].normal;
                 black_box(cube.row(
                     &sources,
-                    e.centroid + normal * 1e-6,
+                    e.centroid() + normal * 1e-6,
                     normal,
                     0.3,
-                    e.surface,
+                    e.surface(),
                     FormFactorMethod::Hemicube,
                 ));
             });
@@ -74,21 +74,25 @@ fn hemicube_stages(c: &mut Criterion) {
                 iter_cpu(b, || {
                     let e = &mesh[receivers[next % receivers.len()]];
                     next += 1;
-                    let normal = mesh.surfaces()[e.surface as usize].normal;
-                    let eye = e.centroid + normal * 1e-6;
+                    let normal = mesh.surfaces()[e.surface() as usize].normal;
+                    let eye = e.centroid() + normal * 1e-6;
                     match stage {
-                        "clear" => cube.render_stage::<false>(&empty, eye, normal, 0.3, e.surface),
-                        "project" => {
-                            cube.render_stage::<false>(&sources, eye, normal, 0.3, e.surface)
+                        "clear" => {
+                            cube.render_stage::<false>(&empty, eye, normal, 0.3, e.surface())
                         }
-                        "fill" => cube.render_stage::<true>(&sources, eye, normal, 0.3, e.surface),
+                        "project" => {
+                            cube.render_stage::<false>(&sources, eye, normal, 0.3, e.surface())
+                        }
+                        "fill" => {
+                            cube.render_stage::<true>(&sources, eye, normal, 0.3, e.surface())
+                        }
                         _ => {
                             black_box(cube.row(
                                 &sources,
                                 eye,
                                 normal,
                                 0.3,
-                                e.surface,
+                                e.surface(),
                                 FormFactorMethod::Hemicube,
                             ));
                         }

@@ -12,8 +12,8 @@
 use radiosity::formfactor::FormFactorMethod;
 use radiosity::math::Rgb;
 use radiosity::pipeline::{solve_with_previews, Preview};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::refine::RefineSettings;
-use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{scenes, Settings};
 use std::time::Instant;
 
@@ -33,8 +33,8 @@ fn leaf_values(p: &Preview<'_>) -> (Vec<Rgb>, Vec<Rgb>, Vec<f64>) {
     for k in p.mesh.leaves() {
         let e = &p.mesh[k];
         b.push(p.radiosity.element(k));
-        rho.push(p.mesh.surfaces()[e.surface as usize].reflectance);
-        area.push(e.area);
+        rho.push(p.mesh.surfaces()[e.surface() as usize].reflectance);
+        area.push(e.area());
     }
     (b, rho, area)
 }

@@ -24,6 +24,9 @@ pub enum Error {
     Gltf {
         /// The scene file.
         path: PathBuf,
+        /// The node, mesh, material, light, texture or image at fault, where
+        /// one is (the message names it too).
+        object: Option<GltfObject>,
         /// What is wrong, naming the mesh, accessor or buffer.
         message: String,
     },
@@ -55,14 +58,19 @@ pub enum Error {
     /// A setting is out of its range.
     #[error("setting {name}: {message}")]
     Setting {
-        /// The setting's name as the CLI spells it.
+        /// The setting's name.
         name: &'static str,
         /// What is wrong.
         message: String,
     },
     /// A configured limit (triangles, elements, memory) was reached.
-    #[error("limit reached: {0}")]
-    Limit(String),
+    #[error("limit reached: {message}")]
+    Limit {
+        /// Which limit.
+        limit: LimitKind,
+        /// What would have exceeded it, naming the file where there is one.
+        message: String,
+    },
     /// The solver could not converge, or met a numerically unusable system.
     #[error("solver: {0}")]
     Solver(String),
@@ -76,10 +84,108 @@ pub enum Error {
     },
 }
 
+/// A glTF object that an [`Error::Gltf`] names: what kind it is, its index
+/// in the file's list of its kind, and its name if it has one.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GltfObject {
+    /// What kind of object.
+    pub kind: GltfKind,
+    /// Its index in the file's list of objects of its kind.
+    pub index: usize,
+    /// Its name in the file, if it has a non-empty one.
+    pub name: Option<String>,
+}
+
+impl GltfObject {
+    /// Object `index` of `kind`, named `name` (an empty name counts as none).
+    #[must_use]
+    pub fn new(kind: GltfKind, index: usize, name: Option<&str>) -> Self {
+        GltfObject {
+            kind,
+            index,
+            name: name.filter(|n| !n.is_empty()).map(str::to_string),
+        }
+    }
+}
+
+/// The kinds of glTF object an [`Error::Gltf`] can name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum GltfKind {
+    /// An entry of `nodes`.
+    Node,
+    /// An entry of `meshes` (the fault may lie in one of its primitives or
+    /// the accessors they read).
+    Mesh,
+    /// An entry of `materials`.
+    Material,
+    /// A light of `KHR_lights_punctual`.
+    Light,
+    /// An entry of `textures`.
+    Texture,
+    /// An entry of `images`.
+    Image,
+}
+
+/// The limits an [`Error::Limit`] names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum LimitKind {
+    /// Bytes of a file or of a buffer it declares
+    /// (`ImportLimits::max_file_bytes`).
+    FileBytes,
+    /// Triangles of a file (`ImportLimits::max_triangles`) or of a built-in
+    /// scene.
+    Triangles,
+    /// Nesting of a file's nodes (`ImportLimits::max_node_depth`).
+    NodeDepth,
+    /// Patches of the mesh (`Settings::max_patches`).
+    Patches,
+    /// Elements of the mesh (the refinement's element budget).
+    Elements,
+    /// Bytes of the solve (`Settings::max_memory`).
+    Memory,
+    /// Cells of an adaptive quadrature that did not meet its tolerance.
+    QuadratureCells,
+}
+
 /// The library's result type.
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
+    /// The glTF object a [`Error::Gltf`] names, if any.
+    #[must_use]
+    pub fn gltf_object(&self) -> Option<&GltfObject> {
+        match self {
+            Error::Gltf { object, .. } => object.as_ref(),
+            _ => None,
+        }
+    }
+
+    /// A glTF error without an object of its own takes `object` (the
+    /// object being read when it arose); any other error is returned as it
+    /// is.
+    #[must_use]
+    pub(crate) fn within(self, object: impl FnOnce() -> GltfObject) -> Self {
+        match self {
+            Error::Gltf {
+                path,
+                object: None,
+                message,
+            } => Error::Gltf {
+                path,
+                object: Some(object()),
+                message,
+            },
+            other => other,
+        }
+    }
+
+    /// An [`Error::Limit`] of `limit`.
+    pub(crate) fn limit(limit: LimitKind, message: String) -> Self {
+        Error::Limit { limit, message }
+    }
+
     /// An I/O error for `path`.
     pub fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         Error::Io {

@@ -68,7 +68,7 @@ impl std::error::Error for NotRegular {}
 /// True when `error` is [`open_regular`]'s refusal of a file that exists but
 /// is not a regular file (a FIFO, device, socket or folder).
 #[must_use]
-pub fn is_not_regular(error: &Error) -> bool {
+pub(crate) fn is_not_regular(error: &Error) -> bool {
     match error {
         Error::Io { error, .. } => error
             .get_ref()

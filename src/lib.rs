@@ -35,6 +35,26 @@
 //! command-line tool and the time-versus-error reports ([`report`]); build with
 //! `default-features = false` for the library alone.
 //!
+//! ## What a program uses
+//!
+//! - load: [`gltf_io::load_scene`] (options in [`gltf_io::LoadOptions`]), or
+//!   a scene built in code ([`scene::SceneBuilder`], [`scenes`]);
+//! - settings: [`Settings`] (Gauss-Seidel or progressive:
+//!   [`pipeline::SolverKind`]);
+//! - solve: [`solve()`], [`pipeline::solve_with_previews`], and
+//!   [`light_groups::solve_with_light_groups`] for separately mixable lights;
+//! - query: [`Solution`] (per-object means, leaves, radiosity at points,
+//!   the display mesh, [`Solution::stats`]);
+//! - render: [`render::render`], tone mapping and image files;
+//! - bake: [`gltf_io::write_baked`];
+//! - reference: [`reference::Reference`], the independent path tracer;
+//! - errors: [`Error`], whose variants name the file, glTF object
+//!   ([`GltfObject`]), material, light or setting at fault.
+//!
+//! The other modules are public for tests, benchmarks and the study of the
+//! method (form factors, meshes, solvers, exact oracles); the items no
+//! program needs are crate-private.
+//!
 //! ## Brief overview
 //!
 //! The pipeline runs one way, one module per stage:
@@ -47,7 +67,7 @@
 //!   geometry decoded ([`gltf_io::LoadOptions`]); a scene without light is
 //!   refused. Punctual lights ([`scene::Light`], `KHR_lights_punctual`) are
 //!   sources outside the mesh: their direct light, with exact shadows, enters
-//!   the solvers as a first reflection ([`solve::DirectLight`]).
+//!   the solvers as a first reflection.
 //!   [`scene::Camera::framing`] gives a default view.
 //! - [`mesh`]: surfaces cut into patches, each the root of an element quadtree
 //!   ([`mesh::Mesh`]): geometry and topology only.
@@ -56,13 +76,13 @@
 //!   visibility of emitters; kept per element in a [`formfactor::FormFactors`]
 //!   store with the state of each row.
 //! - [`solve`](mod@solve): the patch system assembled from the rows, solved by
-//!   Gauss-Seidel ([`solve::gauss_seidel`]) or by progressive shooting
-//!   ([`solve::progressive`]), and the gather to elements; the result is a
-//!   [`solve::Radiosity`] per element and patch.
+//!   Gauss-Seidel ([`solve::gauss_seidel`]), and the gather to elements; the
+//!   result is a [`solve::Radiosity`] per element and patch.
 //! - [`refine`]: where to split elements (neighbour differences) and sources.
 //! - [`pipeline`]: the one driver of both solvers: [`Settings`], checks before
 //!   any form factor, meshing, refinement passes, progress and the figures of
-//!   a run ([`pipeline::SolveStats`]).
+//!   a run ([`pipeline::SolveStats`]); the progressive solver (shooting, with
+//!   previews: [`pipeline::SolverKind::Progressive`]) lives there whole.
 //! - [`solution`]: what a solve gives: [`Solution`], per-object means, leaf
 //!   views, radiosity at points, the display mesh.
 //! - [`render`]: images from any camera, tone mapping, HDR and PNG files;
@@ -86,7 +106,7 @@ pub mod report;
 pub mod scene;
 pub mod scenes;
 
-pub use error::{Error, Result};
+pub use error::{Error, GltfKind, GltfObject, LimitKind, Result};
 pub mod formfactor;
 pub mod mesh;
 pub mod pipeline;

@@ -6,7 +6,7 @@ use glam::DVec3;
 use radiosity::gltf_io::{load_scene, load_scene_with, ImportLimits, LoadOptions};
 use radiosity::scene::Overlaps;
 use radiosity::scene::Scene;
-use radiosity::Error;
+use radiosity::{Error, GltfKind, GltfObject, LimitKind};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -405,7 +405,12 @@ fn a_node_reached_twice_or_nested_too_deep_is_an_error() {
         json!([{"children": [1]}, {"mesh": 0, "children": [0]}]),
         json!([0]),
     );
-    error_naming(&write("cycle.gltf", &cyclic), "reached twice");
+    let e = error_naming(&write("cycle.gltf", &cyclic), "reached twice");
+    assert_eq!(
+        e.gltf_object(),
+        Some(&GltfObject::new(GltfKind::Node, 0, None)),
+        "{e}"
+    );
     let chain: Vec<Value> = (0..10)
         .map(|i| {
             if i < 9 {
@@ -421,7 +426,13 @@ fn a_node_reached_twice_or_nested_too_deep_is_an_error() {
         max_node_depth: 5,
         ..ImportLimits::default()
     };
-    assert!(matches!(load_scene(&deep, &shallow), Err(Error::Limit(_))));
+    assert!(matches!(
+        load_scene(&deep, &shallow),
+        Err(Error::Limit {
+            limit: LimitKind::NodeDepth,
+            ..
+        })
+    ));
 }
 
 // ---------------------------------------------------------------------------
@@ -622,7 +633,13 @@ fn a_file_with_too_many_triangles_hits_the_limit() {
         max_triangles: 1,
         ..ImportLimits::default()
     };
-    assert!(matches!(load_scene(&path, &limits), Err(Error::Limit(_))));
+    assert!(matches!(
+        load_scene(&path, &limits),
+        Err(Error::Limit {
+            limit: LimitKind::Triangles,
+            ..
+        })
+    ));
 }
 
 // ---------------------------------------------------------------------------
@@ -821,6 +838,11 @@ fn an_index_out_of_range_names_the_mesh() {
     let doc = one_primitive(&UNIT_TRIANGLE, Some(&[0, 1, 3]), 4);
     let e = error_naming(&write("bad_index.gltf", &doc), "mesh 0 ('m')");
     assert!(e.to_string().contains("index 3"), "{e}");
+    assert_eq!(
+        e.gltf_object(),
+        Some(&GltfObject::new(GltfKind::Mesh, 0, Some("m"))),
+        "{e}"
+    );
 }
 
 #[test]
@@ -1065,7 +1087,12 @@ fn reflectance_above_the_maximum_is_clamped_with_one_warning_naming_each_materia
     // Negative reflectance is still an error naming the material.
     let mut doc = three_materials();
     doc["materials"][2]["pbrMetallicRoughness"]["baseColorFactor"] = json!([0.5, -0.1, 0.5, 1.0]);
-    error_naming(&write("negative.gltf", &doc), "material 'grey'");
+    let e = error_naming(&write("negative.gltf", &doc), "material 'grey'");
+    assert_eq!(
+        e.gltf_object(),
+        Some(&GltfObject::new(GltfKind::Material, 2, Some("grey"))),
+        "{e}"
+    );
 }
 
 #[test]
@@ -1526,13 +1553,23 @@ fn an_unknown_light_type_is_left_out_with_a_warning_naming_it() {
     // Values out of range are errors naming the light and its node.
     let mut doc = with_lights(false, "point");
     doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"]["innerConeAngle"] = json!(0.5);
-    error_naming(
+    let e = error_naming(
         &write("bad_cone.gltf", &doc),
         "light 1 ('beam') of node 2 ('spot node')",
     );
+    assert_eq!(
+        e.gltf_object(),
+        Some(&GltfObject::new(GltfKind::Light, 1, Some("beam"))),
+        "{e}"
+    );
     let mut doc = with_lights(false, "point");
     doc["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = json!(-1.0);
-    error_naming(&write("bad_intensity.gltf", &doc), "light 0 ('bulb')");
+    let e = error_naming(&write("bad_intensity.gltf", &doc), "light 0 ('bulb')");
+    assert_eq!(
+        e.gltf_object(),
+        Some(&GltfObject::new(GltfKind::Light, 0, Some("bulb"))),
+        "{e}"
+    );
 }
 
 #[test]

@@ -17,7 +17,7 @@ use glam::DVec3;
 use smallvec::SmallVec;
 
 /// A polygon as clipping produces it: usually a handful of vertices.
-pub type ClippedPolygon = SmallVec<[DVec3; 8]>;
+pub(crate) type ClippedPolygon = SmallVec<[DVec3; 8]>;
 
 /// The intersection of two coplanar convex polygons (either winding). Empty when
 /// they do not overlap (or touch only along an edge or at a vertex, up to

@@ -11,7 +11,7 @@
 //! cells towards the curve only as far as the total error needs, instead of
 //! forcing every cell along it to a fixed local tolerance.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::math::{is_convex, newell_normal, planarity_error};
 use glam::DVec3;
 use std::cmp::Ordering;
@@ -299,14 +299,17 @@ impl<'s, F: FnMut(f64, f64) -> f64> Adaptive<'s, F> {
             .filter(|c| c.live)
             .fold((0.0, 0.0), |(v, e), c| (v + c.fine, e + c.error));
         if error_estimate > self.settings.tolerance {
-            return Err(Error::Limit(format!(
-                "adaptive quadrature reached an error estimate of {error_estimate:.3e}, \
+            return Err(Error::limit(
+                LimitKind::QuadratureCells,
+                format!(
+                    "adaptive quadrature reached an error estimate of {error_estimate:.3e}, \
                  above the tolerance {:.3e}, with {} cells (max_depth {}, max_cells {})",
-                self.settings.tolerance,
-                self.leaves,
-                self.settings.max_depth,
-                self.settings.max_cells
-            )));
+                    self.settings.tolerance,
+                    self.leaves,
+                    self.settings.max_depth,
+                    self.settings.max_cells
+                ),
+            ));
         }
         Ok(Integral {
             value,
@@ -438,7 +441,7 @@ mod tests {
             max_cells: 1000,
         };
         let r = integrate_unit_square(|u, _| (u - 0.3).abs(), &s);
-        assert!(matches!(r, Err(Error::Limit(_))));
+        assert!(matches!(r, Err(Error::Limit { .. })));
     }
 
     #[test]

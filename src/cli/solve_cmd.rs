@@ -13,12 +13,12 @@ use anyhow::{bail, Context, Result};
 use radiosity::gltf_io::{self, ImportLimits, LoadOptions};
 use radiosity::output::{check_target, prepare_folder};
 use radiosity::pipeline::{Preview, SolveStats};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind, SolverSettings};
 use radiosity::refine::RefineSettings;
 use radiosity::render::{self, ShadedMesh, ToneMap};
 use radiosity::scene::{Camera, Scene};
 use radiosity::solution::ObjectRadiosity;
-use radiosity::solve::progressive::ProgressiveStats;
-use radiosity::solve::{ProgressiveSettings, SolverKind, SolverSettings};
+use radiosity::solution::ProgressiveStats;
 use radiosity::{scenes, Settings};
 use serde::Serialize;
 use std::io::Read;
@@ -303,7 +303,7 @@ fn run_in_pool(
             previews.write(p)
         })
         .map_err(|e| {
-            let memory = matches!(e, radiosity::Error::Limit(_));
+            let memory = matches!(e, radiosity::Error::Limit { .. });
             let context = if memory {
                 format!(
                     "solving '{}' ({} of the {} --max-memory are the solve's; the rest \

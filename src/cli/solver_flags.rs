@@ -5,7 +5,7 @@
 
 use super::args::SolveSettingsArgs;
 use anyhow::{bail, Result};
-use radiosity::solve::SolverKind;
+use radiosity::pipeline::SolverKind;
 
 /// The options of `a` that only the progressive solver reads, by flag, and
 /// whether each was given.
@@ -58,8 +58,8 @@ mod tests {
     use super::super::args::{Cli, Command};
     use super::super::solve_cmd::settings;
     use clap::Parser;
+    use radiosity::pipeline::ProgressiveSettings;
     use radiosity::refine::RefineSettings;
-    use radiosity::solve::ProgressiveSettings;
 
     fn solve_args(extra: &[&str]) -> super::SolveSettingsArgs {
         let mut argv = vec!["radiosity", "solve", "cornell_box"];

@@ -31,6 +31,7 @@ pub use rows::{compute_rows, RowSettings};
 pub(crate) use rows::{compute_rows_with, element_seed, emitter_shifts, RowScene, RowSkips};
 pub use sources::{SourcePolygon, Sources};
 pub(crate) use split_rows::{update_rows_for_splits, SplitPatch};
-pub use store::{EmitterShift, FormFactors, RowState, RowView};
+pub(crate) use store::EmitterShift;
+pub use store::{FormFactors, RowState, RowView};
 pub(crate) use unoccluded::{is_convex_enclosure, unoccluded_row};
 pub(crate) use visibility::{EmitterVisibility, Occluders, PixelHint, PointsMean};

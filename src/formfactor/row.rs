@@ -31,7 +31,7 @@ impl Row {
     /// A row from `(patch, form factor)` pairs sorted by patch id, with no
     /// back face or open sky in view.
     #[must_use]
-    pub fn from_sorted(entries: Vec<(u32, f32)>) -> Self {
+    pub(crate) fn from_sorted(entries: Vec<(u32, f32)>) -> Self {
         debug_assert!(entries.windows(2).all(|w| w[0].0 < w[1].0));
         Row {
             entries: entries.into(),
@@ -68,7 +68,7 @@ impl Row {
     /// The same row, seeing back faces over form factor `back_faces` and
     /// nothing over form factor `open`.
     #[must_use]
-    pub fn with_hidden(mut self, back_faces: f64, open: f64) -> Self {
+    pub(crate) fn with_hidden(mut self, back_faces: f64, open: f64) -> Self {
         self.back_faces = back_faces as f32;
         self.open = open as f32;
         self
@@ -93,7 +93,7 @@ impl Row {
 
     /// The row without its stored zeros (the same row when it has none).
     #[must_use]
-    pub fn without_zeros(self) -> Self {
+    pub(crate) fn without_zeros(self) -> Self {
         if self.entries.iter().all(|e| e.1 != 0.0) {
             return self;
         }
@@ -112,7 +112,7 @@ impl Row {
     /// The form factor of the back faces the receiver sees: light it sends
     /// there is absorbed by them.
     #[must_use]
-    pub fn back_faces(&self) -> f64 {
+    pub(crate) fn back_faces(&self) -> f64 {
         f64::from(self.back_faces)
     }
 

@@ -212,7 +212,7 @@ impl Sources {
     /// positions in `keys` (an item buffer of element ids, as a shooting
     /// patch needs).
     #[must_use]
-    pub fn from_elements(mesh: &Mesh, keys: &[ElementKey]) -> Self {
+    pub(crate) fn from_elements(mesh: &Mesh, keys: &[ElementKey]) -> Self {
         let polygons = keys
             .iter()
             .enumerate()
@@ -251,7 +251,7 @@ impl Sources {
 
     /// Number of patches.
     #[must_use]
-    pub fn patch_count(&self) -> usize {
+    pub(crate) fn patch_count(&self) -> usize {
         self.first.len().saturating_sub(1)
     }
 
@@ -274,7 +274,7 @@ impl Sources {
     /// and second moment, to the order of its radius over the distance
     /// squared).
     #[must_use]
-    pub fn exact_form_factor(&self, p: u32, eye: DVec3, normal: DVec3) -> f64 {
+    pub(crate) fn exact_form_factor(&self, p: u32, eye: DVec3, normal: DVec3) -> f64 {
         match self.patch(p) {
             [one] => one.form_factor(eye, normal),
             many => self

@@ -73,13 +73,13 @@ impl RowState {
     /// True when the leaf sees some front face: its row was computed and is
     /// not empty.
     #[must_use]
-    pub fn is_exposed(&self) -> bool {
+    pub(crate) fn is_exposed(&self) -> bool {
         matches!(self, RowState::Computed(_) | RowState::Released(_))
     }
 
     /// True when the row was computed (exposed or shut in).
     #[must_use]
-    pub fn is_computed(&self) -> bool {
+    pub(crate) fn is_computed(&self) -> bool {
         matches!(
             self,
             RowState::Computed(_) | RowState::ShutIn(_) | RowState::Released(_)
@@ -109,7 +109,7 @@ pub struct FormFactors {
 /// How a facet's own view of the emitters changes the row it borrows from
 /// its group lead (see [`FormFactors::emitter_shift`]).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct EmitterShift {
+pub(crate) struct EmitterShift {
     /// The factor on every borrowed entry.
     pub scale: f32,
     /// Per emitter patch, what is added to the scaled entry (or stands
@@ -165,7 +165,7 @@ impl FormFactors {
 
     /// True when leaf `k` sees some front face (see [`RowState::is_exposed`]).
     #[must_use]
-    pub fn is_exposed(&self, k: ElementKey) -> bool {
+    pub(crate) fn is_exposed(&self, k: ElementKey) -> bool {
         self.state(k).is_exposed()
     }
 
@@ -220,7 +220,7 @@ impl FormFactors {
     /// them less of the floor: the 10 000-triangle atrium's columns read
     /// 0.7% darker than with the whole row borrowed.)
     #[must_use]
-    pub fn emitter_shift(&self, k: ElementKey) -> Option<&EmitterShift> {
+    pub(crate) fn emitter_shift(&self, k: ElementKey) -> Option<&EmitterShift> {
         match self.states.get(k) {
             Some(RowState::Computed(_)) => self.emitter_shifts.get(k),
             _ => None,
@@ -280,7 +280,7 @@ impl FormFactors {
     /// Heap bytes of the store's own table (one slot per element key ever
     /// seen), without the rows' entries.
     #[must_use]
-    pub fn table_bytes(&self) -> usize {
+    pub(crate) fn table_bytes(&self) -> usize {
         self.states.capacity() * std::mem::size_of::<(u32, RowState)>()
     }
 }

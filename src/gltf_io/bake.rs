@@ -143,7 +143,7 @@ pub fn write_baked(
 /// # Errors
 ///
 /// As for [`write_baked`].
-pub fn stage_baked(
+pub(crate) fn stage_baked(
     outputs: &mut Outputs,
     scene: &Scene,
     shading: &ShadingMesh,

@@ -15,7 +15,7 @@ use super::primitives::{triangle_count, triangle_mode, triangles};
 use super::texture_use::texture_use;
 use super::textures::{Images, Unusable};
 use super::{describe, gltf_error};
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::math::Rgb;
 use crate::render::{ShadedMesh, Texels};
 use crate::scene::{Camera, Material};
@@ -318,11 +318,14 @@ impl Reader<'_> {
         let count = triangle_count(mode, usize::try_from(stream_len).unwrap_or(usize::MAX));
         let total = self.triangles_read.saturating_add(count);
         if total > self.limits.max_triangles {
-            return Err(Error::Limit(format!(
-                "{}: {here} brings the triangle count to {total}, more than the limit of {}",
-                self.path.display(),
-                self.limits.max_triangles
-            )));
+            return Err(Error::limit(
+                LimitKind::Triangles,
+                format!(
+                    "{}: {here} brings the triangle count to {total}, more than the limit of {}",
+                    self.path.display(),
+                    self.limits.max_triangles
+                ),
+            ));
         }
         self.triangles_read = total;
 

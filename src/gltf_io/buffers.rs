@@ -6,7 +6,7 @@ use super::document::Document;
 use super::limits::ImportLimits;
 use super::uri::{resolve, Resolved};
 use super::{describe, gltf_error};
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use std::path::Path;
 
 /// Padding a buffer may carry beyond its declared length (GLB chunks are padded to
@@ -26,11 +26,14 @@ pub(super) fn load_buffers(
         let what = describe("buffer", i, buffer.name.as_deref());
         let declared = buffer.byte_length.0;
         if declared > limits.max_file_bytes {
-            return Err(Error::Limit(format!(
-                "{}: {what} declares {declared} bytes, more than the limit of {}",
-                path.display(),
-                limits.max_file_bytes
-            )));
+            return Err(Error::limit(
+                LimitKind::FileBytes,
+                format!(
+                    "{}: {what} declares {declared} bytes, more than the limit of {}",
+                    path.display(),
+                    limits.max_file_bytes
+                ),
+            ));
         }
         let mut bytes = match &buffer.uri {
             None => match (i, glb_bin.take()) {

@@ -4,7 +4,7 @@
 
 use super::gltf_error;
 use super::limits::ImportLimits;
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::input::open_regular;
 use std::io::Read;
 use std::path::Path;
@@ -31,11 +31,14 @@ pub(super) fn read_limited(path: &Path, limits: &ImportLimits) -> Result<Vec<u8>
     let file = open_regular(path)?;
     let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
     if len > limits.max_file_bytes {
-        return Err(Error::Limit(format!(
-            "{}: the file has {len} bytes, more than the limit of {}",
-            path.display(),
-            limits.max_file_bytes
-        )));
+        return Err(Error::limit(
+            LimitKind::FileBytes,
+            format!(
+                "{}: the file has {len} bytes, more than the limit of {}",
+                path.display(),
+                limits.max_file_bytes
+            ),
+        ));
     }
     let mut bytes = Vec::with_capacity(len as usize);
     // `take` guards against a file that grows while it is read.

@@ -64,7 +64,7 @@ pub fn write_scene(scene: &Scene, path: &Path) -> Result<()> {
 /// # Errors
 ///
 /// As for [`write_scene`].
-pub fn stage_scene(outputs: &mut Outputs, scene: &Scene, path: &Path) -> Result<()> {
+pub(crate) fn stage_scene(outputs: &mut Outputs, scene: &Scene, path: &Path) -> Result<()> {
     let binary = is_binary(path)?;
     check_exportable(scene).map_err(|m| output_error(path, m))?;
     let mut root = new_root();

@@ -12,7 +12,7 @@ use super::meshes::{add_mesh_instance, Decoded, Source};
 use super::nodes::walk;
 use super::options::LoadOptions;
 use super::textures::Images;
-use crate::error::{Error, Result};
+use crate::error::{Error, GltfKind, GltfObject, Result};
 use crate::scene::{facing_warnings, Scene};
 use std::path::Path;
 
@@ -137,7 +137,17 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
                 &mut scene,
                 &mut default_material,
                 &mut decoded,
-            )?;
+            )
+            .map_err(|e| {
+                e.within(|| {
+                    let name = doc
+                        .root
+                        .meshes
+                        .get(mesh.value())
+                        .and_then(|m| m.name.as_deref());
+                    GltfObject::new(GltfKind::Mesh, mesh.value(), name)
+                })
+            })?;
         }
     }
     for (material, tally) in &decoded.masked {

@@ -10,8 +10,8 @@
 
 use super::document::Document;
 use super::nodes::Placed;
-use super::{describe, gltf_error};
-use crate::error::{Error, Result};
+use super::{describe, gltf_error, gltf_error_at};
+use crate::error::{Error, GltfKind, GltfObject, Result};
 use crate::math::Rgb;
 use crate::scene::{merge_coincident_lights, Light, LightKind};
 use glam::DVec3;
@@ -55,8 +55,9 @@ pub(super) fn placed_lights(
             .map(|i| i as usize)
             .filter(|i| *i < defined.len())
         else {
-            return Err(gltf_error(
+            return Err(gltf_error_at(
                 path,
+                GltfObject::new(GltfKind::Node, p.node, node_name),
                 format!(
                     "{node}: {EXTENSION} light {index} does not exist (the file defines {})",
                     defined.len()
@@ -66,8 +67,10 @@ pub(super) fn placed_lights(
         used[i] = true;
         let light_name = defined[i].get("name").and_then(Value::as_str);
         let what = format!("{} of {node}", describe("light", i, light_name));
+        let object = || GltfObject::new(GltfKind::Light, i, light_name);
         let field = |name: &'static str| Field {
             path,
+            object: object(),
             what: &what,
             value: defined[i].pointer(name),
             name,
@@ -84,8 +87,9 @@ pub(super) fn placed_lights(
                 continue;
             }
             Some(other) => {
-                return Err(gltf_error(
+                return Err(gltf_error_at(
                     path,
+                    object(),
                     format!("{what}: \"type\" must be a string, got {other}"),
                 ))
             }
@@ -105,7 +109,9 @@ pub(super) fn placed_lights(
             direction: p.world.transform_vector3(DVec3::NEG_Z).normalize_or_zero(),
         };
         light.validate().map_err(|e| match e {
-            Error::Light { message, .. } => gltf_error(path, format!("{what}: {message}")),
+            Error::Light { message, .. } => {
+                gltf_error_at(path, object(), format!("{what}: {message}"))
+            }
             other => other,
         })?;
         out.push(light);
@@ -165,6 +171,8 @@ pub(super) fn placed_lights(
 /// never quietly the default.
 struct Field<'a> {
     path: &'a Path,
+    /// The light it belongs to.
+    object: GltfObject,
     what: &'a str,
     value: Option<&'a Value>,
     name: &'a str,
@@ -178,8 +186,9 @@ impl Field<'_> {
 
     fn wrong(&self, expected: &str) -> Error {
         let got = self.value.map_or_else(String::new, Value::to_string);
-        gltf_error(
+        gltf_error_at(
             self.path,
+            self.object.clone(),
             format!(
                 "{}: \"{}\" must be {expected}, got {got}",
                 self.what,

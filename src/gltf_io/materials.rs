@@ -8,14 +8,14 @@
 
 use super::alpha_mask::Mask;
 use super::document::Document;
-use super::gltf_error;
+use super::gltf_error_at;
 use super::nodes::Placed;
 use super::options::LoadOptions;
 use super::precise::{number, numbers};
 use super::primitives::triangle_mode;
 use super::texture_use::texture_use;
 use super::textures::{Images, Unusable};
-use crate::error::{Error, Result};
+use crate::error::{Error, GltfKind, GltfObject, Result};
 use crate::math::Rgb;
 use crate::scene::Material;
 use gltf_json::validation::Checked;
@@ -71,6 +71,7 @@ pub(super) fn convert_materials(
             Some(n) if !n.is_empty() => n.to_string(),
             _ => format!("material {i}"),
         };
+        let object = || GltfObject::new(GltfKind::Material, i, m.name.as_deref());
         let base = format!("/materials/{i}");
         let rgba = numbers::<4>(
             &doc.raw,
@@ -128,7 +129,7 @@ pub(super) fn convert_materials(
                 Err(Unusable::Ignored(why)) => warnings.push(format!(
                     "material '{name}': base colour texture ignored ({why}); using baseColorFactor alone"
                 )),
-                Err(Unusable::Refused(e)) => return Err(e),
+                Err(Unusable::Refused(e)) => return Err(e.within(object)),
             }
         }
         if in_use {
@@ -162,7 +163,7 @@ pub(super) fn convert_materials(
                 Err(Unusable::Ignored(why)) => warnings.push(format!(
                     "material '{name}': emissive texture ignored ({why}); using emissiveFactor alone"
                 )),
-                Err(Unusable::Refused(e)) => return Err(e),
+                Err(Unusable::Refused(e)) => return Err(e.within(object)),
             }
         }
         let max = options.max_reflectance;
@@ -171,7 +172,7 @@ pub(super) fn convert_materials(
             reflectance = Rgb(reflectance.0.map(|r| r.min(max)));
         }
         let mut material = Material::from_radiance(&name, reflectance, radiance)
-            .map_err(|e| in_file(path, i, e))?;
+            .map_err(|e| in_file(path, object(), e))?;
         material.double_sided = m.double_sided || options.double_sided;
         if let (Some(b), Some(e)) = (&texture, &emissive_texture) {
             if b.texcoord != e.texcoord {
@@ -222,6 +223,7 @@ fn metallic(
     images: &mut Images,
     warnings: &mut Vec<String>,
 ) -> Result<f64> {
+    let object = || GltfObject::new(GltfKind::Material, i, doc.root.materials[i].name.as_deref());
     let pointer = format!("/materials/{i}/pbrMetallicRoughness/metallicFactor");
     let factor = number(&doc.raw, &pointer);
     let mut metallic = factor.unwrap_or(1.0);
@@ -244,12 +246,13 @@ fn metallic(
                 "material '{name}': metallic-roughness texture ignored ({why}); using \
                  metallicFactor alone"
             )),
-            Err(Unusable::Refused(e)) => return Err(e),
+            Err(Unusable::Refused(e)) => return Err(e.within(object)),
         }
     }
     if !metallic.is_finite() || metallic < 0.0 {
-        return Err(gltf_error(
+        return Err(gltf_error_at(
             path,
+            object(),
             format!("material '{name}' (index {i}): metallic {metallic} is not from 0 to 1"),
         ));
     }
@@ -283,12 +286,16 @@ pub(super) fn default_material() -> Material {
 }
 
 /// A material error restated as a glTF error, so that it names the file too.
-fn in_file(path: &Path, index: usize, e: Error) -> Error {
+fn in_file(path: &Path, object: GltfObject, e: Error) -> Error {
     match e {
-        Error::Material { material, message } => gltf_error(
-            path,
-            format!("material '{material}' (index {index}): {message}"),
-        ),
+        Error::Material { material, message } => {
+            let index = object.index;
+            gltf_error_at(
+                path,
+                object,
+                format!("material '{material}' (index {index}): {message}"),
+            )
+        }
         other => other,
     }
 }

@@ -11,7 +11,7 @@ use super::nodes::Placed;
 use super::primitives::{triangle_count, triangle_mode, triangles};
 use super::quad_merge::{merge_into_quads, Polygon, Triangle};
 use super::{describe, gltf_error};
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::scene::{Object, Scene, Surface, MAX_COORDINATE};
 use glam::{DMat3, DVec2, DVec3};
 use gltf_json::mesh::{Mode, Semantic};
@@ -350,11 +350,14 @@ fn primitive_triangles(
     let count = triangle_count(mode, stream_len);
     let total = scene.import_stats.triangles_read.saturating_add(count);
     if total > src.limits.max_triangles {
-        return Err(Error::Limit(format!(
-            "{}: {here} brings the triangle count to {total}, more than the limit of {}",
-            src.path.display(),
-            src.limits.max_triangles
-        )));
+        return Err(Error::limit(
+            LimitKind::Triangles,
+            format!(
+                "{}: {here} brings the triangle count to {total}, more than the limit of {}",
+                src.path.display(),
+                src.limits.max_triangles
+            ),
+        ));
     }
     scene.import_stats.triangles_read = total;
     if mode == Mode::Triangles && stream_len % 3 != 0 {

@@ -59,22 +59,32 @@ mod textures;
 mod uri;
 
 pub use crate::scene::LinearImage;
-pub use bake::{stage_baked, write_baked, BakeGroup, BakeOptions, BakeSummary};
+pub use bake::{write_baked, BakeGroup, BakeOptions, BakeSummary};
 pub use bake_groups::BakedGroupInfo;
 pub use baked::{load_baked, BakedScene};
-pub use export::{stage_scene, write_scene};
+pub use export::write_scene;
 pub use import::{load_scene, load_scene_with};
 pub use inputs::input_files;
 pub use limits::ImportLimits;
 pub use options::{LoadOptions, DEFAULT_MAX_REFLECTANCE};
 
-use crate::error::Error;
+use crate::error::{Error, GltfObject};
 use std::path::Path;
 
 /// An [`Error::Gltf`] for the scene file `path`.
 fn gltf_error(path: &Path, message: impl Into<String>) -> Error {
     Error::Gltf {
         path: path.to_path_buf(),
+        object: None,
+        message: message.into(),
+    }
+}
+
+/// An [`Error::Gltf`] for the scene file `path` that names `object`.
+fn gltf_error_at(path: &Path, object: GltfObject, message: impl Into<String>) -> Error {
+    Error::Gltf {
+        path: path.to_path_buf(),
+        object: Some(object),
         message: message.into(),
     }
 }

@@ -5,8 +5,8 @@
 use super::document::Document;
 use super::limits::ImportLimits;
 use super::precise::numbers;
-use super::{describe, gltf_error};
-use crate::error::{Error, Result};
+use super::{describe, gltf_error, gltf_error_at};
+use crate::error::{Error, GltfKind, GltfObject, LimitKind, Result};
 use glam::{DMat4, DQuat, DVec3};
 use std::path::Path;
 
@@ -62,26 +62,32 @@ pub(super) fn walk(path: &Path, doc: &Document, limits: &ImportLimits) -> Result
             .get(n)
             .ok_or_else(|| gltf_error(path, format!("node {n} does not exist")))?;
         let what = describe("node", n, node.name.as_deref());
+        let object = || GltfObject::new(GltfKind::Node, n, node.name.as_deref());
         if reached[n] {
-            return Err(gltf_error(
+            return Err(gltf_error_at(
                 path,
+                object(),
                 format!("{what} is reached twice from the scene's roots: the node hierarchy must be a tree"),
             ));
         }
         reached[n] = true;
         if depth > limits.max_node_depth {
-            return Err(Error::Limit(format!(
-                "{}: {what} is nested deeper than {} levels",
-                path.display(),
-                limits.max_node_depth
-            )));
+            return Err(Error::limit(
+                LimitKind::NodeDepth,
+                format!(
+                    "{}: {what} is nested deeper than {} levels",
+                    path.display(),
+                    limits.max_node_depth
+                ),
+            ));
         }
-        let local =
-            local_transform(doc, n).map_err(|m| gltf_error(path, format!("{what}: {m}")))?;
+        let local = local_transform(doc, n)
+            .map_err(|m| gltf_error_at(path, object(), format!("{what}: {m}")))?;
         let world = parent * local;
         if !world.is_finite() {
-            return Err(gltf_error(
+            return Err(gltf_error_at(
                 path,
+                object(),
                 format!("{what}: its world transform is not finite"),
             ));
         }

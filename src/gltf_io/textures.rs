@@ -19,7 +19,7 @@ use super::image_decode::{decode, dimensions};
 use super::limits::ImportLimits;
 use super::uri::{resolve, Resolved};
 use super::{describe, gltf_error};
-use crate::error::Error;
+use crate::error::{Error, GltfKind, GltfObject};
 use crate::input::is_not_regular;
 use crate::scene::LinearImage;
 use std::collections::HashMap;
@@ -193,7 +193,9 @@ impl<'a> Images<'a> {
                     Resolved::File(f) => read_image_file(self.scene, &f, uri, self.limits, &what)
                         .map_err(|u| match u {
                         Unusable::Ignored(why) => ignored(why),
-                        refused => refused,
+                        Unusable::Refused(e) => Unusable::Refused(e.within(|| {
+                            GltfObject::new(GltfKind::Image, index, image.name.as_deref())
+                        })),
                     })?,
                 }
             }

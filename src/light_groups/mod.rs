@@ -27,36 +27,16 @@
 //! # }
 //! ```
 
-pub(crate) mod mask;
-mod scaled;
 mod solve;
-mod spec;
-mod validate;
 
+pub use crate::scene::light_groups::{GroupPattern, GroupRule, LightGroup, LightGroups};
 pub use solve::GROUP_TOLERANCE;
-pub use spec::{GroupPattern, GroupRule, LightGroup, LightGroups};
 
 use crate::error::{Error, Result};
+use crate::pipeline::SolverKind;
 use crate::pipeline::{solve_keeping_shapes, Progress, Settings};
 use crate::scene::Scene;
 use crate::solution::Solution;
-use crate::solve::source_shape::{NearWeights, SourceShapes};
-use crate::solve::SolverKind;
-
-/// What the last shaped gather of a solve with every light on leaves for
-/// the groups: the unevenly lit patches and their parts, what their near
-/// receivers weigh of the parts (geometry, and the part views drawn), and
-/// how many corrections of the patch radiosities followed the gather (see
-/// `crate::pipeline`'s gathering solver).
-#[derive(Debug)]
-pub(crate) struct KeptShapes {
-    /// The shaped patches; each group takes their parts' values anew.
-    pub shapes: SourceShapes,
-    /// What near receivers weigh of the parts.
-    pub near: NearWeights,
-    /// Corrections made after the shaped gather.
-    pub corrections: usize,
-}
 
 /// Solves `scene` with `settings` (the mesh refined for every light on),
 /// then each of `groups` on the refined mesh: the solution's radiosity is

@@ -18,7 +18,7 @@
 //!   Each group keeps the whole solve's choice of unevenly lit patches and
 //!   what their near receivers weigh of their parts (geometry, and the part
 //!   views drawn), takes the parts' values from its own gathers, and makes as
-//!   many corrections as the whole solve did (see [`KeptShapes`]): a group
+//!   many corrections as the whole solve did (see `KeptShapes`): a group
 //!   alone is then shaped by its own light. Gathering each patch by its
 //!   parts is linear; what is not is the ratio's denominator (the parts'
 //!   mean, against the patch radiosity it multiplies) and the clamped
@@ -27,18 +27,18 @@
 //!   they add up to it exactly.
 //! - The solve's emission scale (a power of two) is exact.
 
-use super::mask::{mask, unmask};
-use super::{KeptShapes, LightGroups};
 use crate::error::{Error, Result};
 use crate::formfactor::{FormFactors, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::pipeline::{times_pow2, weighted_patch_means, Progress, Settings, Stage};
+use crate::scene::light_groups::LightGroups;
 use crate::scene::Scene;
 use crate::solution::Solution;
+use crate::solution::{mask, unmask};
 use crate::solve::{
     gather_bounces, gather_with, gauss_seidel_with_source, scene_is_closed, shaped_factors,
-    DirectLight, GatherOptions, PatchSystem, Radiosity, SolverSettings,
+    DirectLight, GatherOptions, KeptShapes, PatchSystem, Radiosity, SolverSettings,
 };
 use std::sync::Arc;
 use std::time::Instant;

@@ -3,8 +3,8 @@
 mod polygon;
 mod rgb;
 
-pub use polygon::{
-    clip_in_place, clip_to_halfspace, is_convex, newell_normal, planarity_error, polygon_area,
-    polygon_centroid,
+pub(crate) use polygon::{
+    clip_in_place, clip_to_halfspace, is_convex, newell_normal, planarity_error,
 };
+pub use polygon::{polygon_area, polygon_centroid};
 pub use rgb::Rgb;

@@ -8,7 +8,7 @@ use smallvec::SmallVec;
 /// counter-clockwise seen from the front), its length twice the area. Robust for
 /// slightly non-planar input.
 #[must_use]
-pub fn newell_normal(v: &[DVec3]) -> DVec3 {
+pub(crate) fn newell_normal(v: &[DVec3]) -> DVec3 {
     let mut n = DVec3::ZERO;
     for i in 0..v.len() {
         let a = v[i];
@@ -45,7 +45,7 @@ pub fn polygon_centroid(v: &[DVec3]) -> DVec3 {
 /// The largest distance of a vertex from the best plane through the polygon,
 /// relative to the polygon's diameter. Zero for an exactly planar polygon.
 #[must_use]
-pub fn planarity_error(v: &[DVec3]) -> f64 {
+pub(crate) fn planarity_error(v: &[DVec3]) -> f64 {
     let n = newell_normal(v).normalize_or_zero();
     let c = v.iter().copied().sum::<DVec3>() / v.len() as f64;
     let mut diam: f64 = 0.0;
@@ -66,7 +66,7 @@ pub fn planarity_error(v: &[DVec3]) -> f64 {
 /// True when the polygon is strictly convex with respect to `normal` (every turn
 /// goes the same way and no edge is degenerate).
 #[must_use]
-pub fn is_convex(v: &[DVec3], normal: DVec3) -> bool {
+pub(crate) fn is_convex(v: &[DVec3], normal: DVec3) -> bool {
     let m = v.len();
     if m < 3 {
         return false;
@@ -91,7 +91,7 @@ pub fn is_convex(v: &[DVec3], normal: DVec3) -> bool {
 /// (Sutherland-Hodgman against one plane). Returns the kept part, which may be
 /// empty.
 #[must_use]
-pub fn clip_to_halfspace(v: &[DVec3], p: DVec3, n: DVec3) -> SmallVec<[DVec3; 8]> {
+pub(crate) fn clip_to_halfspace(v: &[DVec3], p: DVec3, n: DVec3) -> SmallVec<[DVec3; 8]> {
     let mut out = SmallVec::new();
     let m = v.len();
     for i in 0..m {
@@ -114,7 +114,7 @@ pub fn clip_to_halfspace(v: &[DVec3], p: DVec3, n: DVec3) -> SmallVec<[DVec3; 8]
 /// left as it is and one wholly outside is emptied, with nothing copied: in
 /// shaft clipping most clips are one or the other. The result is the copying
 /// form's, bit for bit.
-pub fn clip_in_place(v: &mut SmallVec<[DVec3; 8]>, p: DVec3, n: DVec3) {
+pub(crate) fn clip_in_place(v: &mut SmallVec<[DVec3; 8]>, p: DVec3, n: DVec3) {
     let (mut inside, mut outside) = (false, false);
     for x in v.iter() {
         if n.dot(*x - p) >= 0.0 {

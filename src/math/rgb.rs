@@ -59,7 +59,7 @@ impl Rgb {
 
     /// True when all three bands are equal (a grey value).
     #[must_use]
-    pub fn is_grey(self) -> bool {
+    pub(crate) fn is_grey(self) -> bool {
         self.0[0] == self.0[1] && self.0[1] == self.0[2]
     }
 

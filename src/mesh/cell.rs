@@ -10,7 +10,7 @@
 use smallvec::SmallVec;
 
 /// The deepest subdivision below a patch that the lattice can hold.
-pub const MAX_DEPTH: u8 = 12;
+pub(crate) const MAX_DEPTH: u8 = 12;
 
 /// A point in a surface lattice, at four times the lattice resolution so that
 /// probes just beside an edge midpoint are representable.
@@ -112,7 +112,7 @@ impl Cell {
     /// disjoint, so a cell no larger than `other` lies inside it exactly when
     /// `other` contains this probe.
     #[must_use]
-    pub fn inner_probe(&self) -> Probe {
+    pub(crate) fn inner_probe(&self) -> Probe {
         match *self {
             Cell::Quad { u, v, size } => (
                 4 * u as i64 + 2 * size as i64,
@@ -165,7 +165,7 @@ impl Cell {
     /// For each edge (corner i to corner i+1): a probe a quarter lattice unit
     /// outside the edge's midpoint, and the edge's two lattice endpoints.
     #[must_use]
-    pub fn edge_probes(&self) -> SmallVec<[EdgeProbe; 4]> {
+    pub(crate) fn edge_probes(&self) -> SmallVec<[EdgeProbe; 4]> {
         let c = self.corners();
         let m = c.len();
         let centre = {

@@ -17,23 +17,42 @@ slotmap::new_key_type! {
 pub struct Patch {
     /// The scene surface it lies on; a face cluster's first surface (its
     /// surfaces share one object and material).
-    pub surface: u32,
+    pub(crate) surface: u32,
     /// Its root elements: one for a cell of a surface's lattice, one per
     /// surface for a face cluster, in surface order.
-    pub roots: SmallVec<[ElementKey; 1]>,
+    pub(crate) roots: SmallVec<[ElementKey; 1]>,
     /// World polygon of its first root, counter-clockwise around the surface
     /// normal (the whole patch unless it is a cluster).
-    pub polygon: SmallVec<[DVec3; 4]>,
+    pub(crate) polygon: SmallVec<[DVec3; 4]>,
     /// Area in square metres.
-    pub area: f64,
+    pub(crate) area: f64,
     /// Area centroid.
-    pub centroid: DVec3,
+    pub(crate) centroid: DVec3,
 }
 
 impl Patch {
+    /// The scene surface it lies on (a face cluster's first surface).
+    #[must_use]
+    pub fn surface(&self) -> u32 {
+        self.surface
+    }
+
+    /// World polygon of its first root, counter-clockwise around the surface
+    /// normal (the whole patch unless it is a cluster).
+    #[must_use]
+    pub fn polygon(&self) -> &[DVec3] {
+        &self.polygon
+    }
+
+    /// Area in square metres.
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        self.area
+    }
+
     /// True for a face cluster: a patch of several surfaces.
     #[must_use]
-    pub fn is_cluster(&self) -> bool {
+    pub(crate) fn is_cluster(&self) -> bool {
         self.roots.len() > 1
     }
 }
@@ -42,30 +61,80 @@ impl Patch {
 #[derive(Clone, Debug)]
 pub struct Element {
     /// The scene surface it lies on.
-    pub surface: u32,
+    pub(crate) surface: u32,
     /// The patch it belongs to.
-    pub patch: u32,
+    pub(crate) patch: u32,
     /// Its parent, `None` for a patch root.
-    pub parent: Option<ElementKey>,
+    pub(crate) parent: Option<ElementKey>,
     /// Its four children, empty for a leaf.
-    pub children: SmallVec<[ElementKey; 4]>,
+    pub(crate) children: SmallVec<[ElementKey; 4]>,
     /// Its region in the surface lattice.
-    pub cell: Cell,
+    pub(crate) cell: Cell,
     /// Depth below the patch root.
-    pub depth: u8,
+    pub(crate) depth: u8,
     /// Area in square metres.
-    pub area: f64,
+    pub(crate) area: f64,
     /// Area centroid (where its hemi-cube sits).
-    pub centroid: DVec3,
+    pub(crate) centroid: DVec3,
     /// Diffuse reflectance: its surface's, or for a textured surface the
     /// texture's mean over this element's footprint.
-    pub reflectance: Rgb,
+    pub(crate) reflectance: Rgb,
     /// Emitted exitance: its surface's, or for a surface with an emissive
     /// texture the texture's mean over this element's footprint.
-    pub emission: Rgb,
+    pub(crate) emission: Rgb,
 }
 
 impl Element {
+    /// The scene surface it lies on.
+    #[must_use]
+    pub fn surface(&self) -> u32 {
+        self.surface
+    }
+
+    /// Its parent, `None` for a patch root.
+    #[must_use]
+    pub fn parent(&self) -> Option<ElementKey> {
+        self.parent
+    }
+
+    /// Its region in the surface lattice.
+    #[must_use]
+    pub fn cell(&self) -> Cell {
+        self.cell
+    }
+
+    /// Depth below the patch root.
+    #[must_use]
+    pub fn depth(&self) -> u8 {
+        self.depth
+    }
+
+    /// Area in square metres.
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        self.area
+    }
+
+    /// Area centroid (where its hemi-cube sits).
+    #[must_use]
+    pub fn centroid(&self) -> DVec3 {
+        self.centroid
+    }
+
+    /// Diffuse reflectance: its surface's, or for a textured surface the
+    /// texture's mean over this element's footprint.
+    #[must_use]
+    pub fn reflectance(&self) -> Rgb {
+        self.reflectance
+    }
+
+    /// Emitted exitance: its surface's, or for a surface with an emissive
+    /// texture the texture's mean over this element's footprint.
+    #[must_use]
+    pub fn emission(&self) -> Rgb {
+        self.emission
+    }
+
     /// True for a leaf.
     #[must_use]
     pub fn is_leaf(&self) -> bool {

@@ -213,7 +213,7 @@ impl SurfaceLattice {
     /// have coordinates `uv` (one per vertex), by the same map as
     /// [`SurfaceLattice::position`]; 0 unless there are 3 or 4.
     #[must_use]
-    pub fn map_uv(&self, uv: &[DVec2], p: (u32, u32)) -> DVec2 {
+    pub(crate) fn map_uv(&self, uv: &[DVec2], p: (u32, u32)) -> DVec2 {
         let s = f64::from(p.0) / f64::from(self.extent.0);
         let t = f64::from(p.1) / f64::from(self.extent.1);
         match uv.len() {
@@ -226,7 +226,7 @@ impl SurfaceLattice {
     /// The reflectance of an element on `cell`: the material's without a
     /// texture, else the texture's mean over the cell's footprint.
     #[must_use]
-    pub fn cell_reflectance(&self, cell: &Cell) -> Rgb {
+    pub(crate) fn cell_reflectance(&self, cell: &Cell) -> Rgb {
         match &self.texture {
             Some(texture) => texture.mean_over(&self.cell_uv(cell)),
             None => self.reflectance,
@@ -237,7 +237,7 @@ impl SurfaceLattice {
     /// emissive texture, else the texture's mean over the cell's footprint
     /// (times the solve's emission scale).
     #[must_use]
-    pub fn cell_emission(&self, cell: &Cell) -> Rgb {
+    pub(crate) fn cell_emission(&self, cell: &Cell) -> Rgb {
         match &self.emissive_texture {
             Some(texture) => {
                 texture.mean_over_refined(&self.cell_uv(cell), EMISSION_DEPTH) * self.emission_scale
@@ -248,7 +248,7 @@ impl SurfaceLattice {
 
     /// True when the surface's elements differ in emission.
     #[must_use]
-    pub fn has_emission_texture(&self) -> bool {
+    pub(crate) fn has_emission_texture(&self) -> bool {
         self.emissive_texture.is_some()
     }
 
@@ -265,7 +265,7 @@ impl SurfaceLattice {
 
     /// The index (within this surface) of the patch whose cell contains the probe.
     #[must_use]
-    pub fn patch_at(&self, p: Probe) -> Option<u32> {
+    pub(crate) fn patch_at(&self, p: Probe) -> Option<u32> {
         let root = 4i64 << MAX_DEPTH;
         match &self.grid {
             PatchGrid::Quad { nu, nv } => {

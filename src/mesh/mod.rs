@@ -15,16 +15,15 @@ mod shading;
 mod texels;
 mod welds;
 
-pub(crate) use cell::Probe;
-pub use cell::{Cell, MAX_DEPTH};
+pub use cell::Cell;
+pub(crate) use cell::{Probe, MAX_DEPTH};
 pub use element::{Element, ElementKey, Patch};
 pub(crate) use lattice::PatchGrid;
 pub use lattice::SurfaceLattice;
 pub use shading::{ShadingMesh, VertexRadiosity, HIDDEN_WEIGHT};
 pub use texels::{ShadingTexels, TexelSurface};
-pub use welds::SMOOTH_ANGLE_DEGREES;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::math::{polygon_area, polygon_centroid, Rgb};
 use crate::scene::Scene;
 use slotmap::SlotMap;
@@ -112,10 +111,13 @@ impl Mesh {
             };
             let needed = lattice::patch_count(surface, size);
             if mesh.patches.len() as u64 + needed > max_patches as u64 {
-                return Err(Error::Limit(format!(
-                    "more than {max_patches} patches at patch size {patch_size} m \
+                return Err(Error::limit(
+                    LimitKind::Patches,
+                    format!(
+                        "more than {max_patches} patches at patch size {patch_size} m \
                      (surface {si} alone needs {needed}); raise the patch size or the limit"
-                )));
+                    ),
+                ));
             }
             let (lattice, cells) = SurfaceLattice::new(
                 surface,
@@ -313,7 +315,7 @@ impl Mesh {
     /// area-weighted mean of its roots' (the texture over the patch's
     /// footprint, which refinement below it does not change).
     #[must_use]
-    pub fn patch_reflectance(&self, p: u32) -> Rgb {
+    pub(crate) fn patch_reflectance(&self, p: u32) -> Rgb {
         self.patch_value(
             p,
             |s| s.texture.is_some(),

@@ -227,7 +227,7 @@ impl Mesh {
     /// textured (one entry per surface of the mesh), interpolated over the
     /// same fans.
     #[must_use]
-    pub fn textured_shading_mesh(
+    pub(crate) fn textured_shading_mesh(
         &self,
         vr: &VertexRadiosity,
         light: &VertexRadiosity,

@@ -75,7 +75,7 @@ impl Mesh {
     /// `textured` selects, from the leaves' radiosities `leaf` (see the module
     /// docs); vertices of other surfaces are absent.
     #[must_use]
-    pub fn vertex_irradiance(
+    pub(crate) fn vertex_irradiance(
         &self,
         textured: impl Fn(u32) -> bool,
         leaf: impl Fn(ElementKey) -> (Rgb, f64),

@@ -20,7 +20,7 @@ use std::collections::HashMap;
 
 /// Facets meeting at a corner at less than this angle between their normals
 /// are drawn as one smooth surface there.
-pub const SMOOTH_ANGLE_DEGREES: f64 = MAX_CLUSTER_ANGLE_DEGREES;
+pub(crate) const SMOOTH_ANGLE_DEGREES: f64 = MAX_CLUSTER_ANGLE_DEGREES;
 
 /// Groups of surface corners drawn as one vertex.
 #[derive(Clone, Debug, Default)]

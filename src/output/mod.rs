@@ -36,4 +36,4 @@ mod staged;
 pub use folder::{check_target, prepare_folder};
 pub use lock::OutputLock;
 pub use pending::{remove_unfinished, stopping, Stopped};
-pub use staged::{write_bytes, write_file, Outputs, StepHook, WriteSeek};
+pub use staged::{write_bytes, write_file, Outputs, WriteSeek};

@@ -45,7 +45,7 @@ pub struct Outputs {
 }
 
 /// Called before each step of a commit, with what the step does.
-pub type StepHook = Box<dyn FnMut(&str) + Send>;
+pub(crate) type StepHook = Box<dyn FnMut(&str) + Send>;
 
 impl std::fmt::Debug for Outputs {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -7,7 +7,6 @@ use super::workspace::Workspace;
 use super::{Progress, SourcePassStats, Stage};
 use crate::error::Result;
 use crate::formfactor::{update_rows_for_splits, FormFactors, RowScene, Sources, SplitPatch};
-use crate::light_groups::KeptShapes;
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::mark_sources;
@@ -15,7 +14,8 @@ use crate::solution::Solution;
 use crate::solve::source_shape::{PartViews, SourceShapes};
 use crate::solve::{
     gather_bounces, gather_with, gauss_seidel, gauss_seidel_grey, gauss_seidel_with_source,
-    shaped_factors, shaped_weights, GatherOptions, GatherTotals, PatchSystem, SolveReport,
+    shaped_factors, shaped_weights, GatherOptions, GatherTotals, KeptShapes, PatchSystem,
+    SolveReport,
 };
 use crate::solve::{scene_is_closed, weight, Radiosity};
 use std::time::Instant;

@@ -15,7 +15,7 @@
 //! Refinement then measures what the rows really take and adds elements
 //! only while the measured bytes per element still fit.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::mesh::{Element, Mesh, Patch};
 use crate::pipeline::Settings;
 use std::mem::size_of;
@@ -135,17 +135,20 @@ pub(crate) fn check_needs(needs: &Needs, depth: u8, limit: u64) -> Result<()> {
     } else {
         String::new()
     };
-    Err(Error::Limit(format!(
-        "the solve would need at least {} ({} patches split to depth {depth}: {:.0} \
+    Err(Error::limit(
+        LimitKind::Memory,
+        format!(
+            "the solve would need at least {} ({} patches split to depth {depth}: {:.0} \
          elements, with rows of at least {} entries{hemicubes}) and the memory limit is {}: \
          raise `max_memory` if the machine has it, or use a larger `patch_size` or a \
          smaller depth",
-        gigabytes(needs.bytes.min(u64::MAX as f64) as u64),
-        needs.patches,
-        needs.leaves,
-        needs.patches.min(LEAST_ROW_ENTRIES),
-        gigabytes(limit),
-    )))
+            gigabytes(needs.bytes.min(u64::MAX as f64) as u64),
+            needs.patches,
+            needs.leaves,
+            needs.patches.min(LEAST_ROW_ENTRIES),
+            gigabytes(limit),
+        ),
+    ))
 }
 
 /// How many more leaves fit in `limit` bytes, when `used` bytes are held now

@@ -11,34 +11,33 @@ mod gathering;
 mod light_checks;
 mod memory;
 mod progress;
+mod progressive;
 mod row_groups;
 mod scale;
 mod settings;
-mod shooting;
 mod skips;
 mod strategy;
 mod workspace;
 
+pub use crate::solve::SolverSettings;
 pub(crate) use gathering::weighted_patch_means;
 pub use progress::{Progress, Stage};
+pub use progressive::{Preview, ProgressiveSettings, SolverKind};
 pub(crate) use scale::times_pow2;
 pub use settings::{Settings, DEFAULT_MAX_MEMORY, DEFAULT_SHAPED_GATHERS, MAX_SHAPED_GATHERS};
-pub use shooting::Preview;
 pub use skips::Skips;
 // The figures of a solve belong to the solution; kept here too, where
 // they were first published.
-pub use crate::solution::{DirectFigures, MemoryFigures};
 pub use crate::solution::{
-    EnergyBalance, HemicubeFigures, PassStats, SkipStats, SolveStats, SourcePassStats, StageSeconds,
+    DirectFigures, EnergyBalance, HemicubeFigures, MemoryFigures, PassStats, SkipStats, SolveStats,
+    SourcePassStats, StageSeconds,
 };
-pub use crate::solution::{CLOSED_ESCAPE, ENERGY_WARNING};
 
 use crate::error::Result;
 use crate::scene::Scene;
 use crate::solution::Solution;
-use crate::solve::SolverKind;
 use gathering::Gathering;
-use shooting::Shooting;
+use progressive::Shooting;
 use std::time::Instant;
 use strategy::{Next, Solver};
 use workspace::Workspace;

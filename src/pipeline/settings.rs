@@ -1,11 +1,12 @@
 //! Settings of a solve, with defaults derived from the scene.
 
 use super::Skips;
+use super::{ProgressiveSettings, SolverKind};
 use crate::error::{Error, Result};
 use crate::formfactor::{EmitterSampling, FormFactorMethod};
 use crate::refine::RefineSettings;
 use crate::scene::Scene;
-use crate::solve::{ProgressiveSettings, SolverKind, SolverSettings};
+use crate::solve::SolverSettings;
 
 /// What [`Settings::max_memory`] is unless set: 8 GiB.
 pub const DEFAULT_MAX_MEMORY: u64 = 8 << 30;

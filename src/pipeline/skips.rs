@@ -7,7 +7,7 @@ use crate::formfactor::hemicube::{DeltaTable, HemicubeStats};
 use crate::formfactor::{is_convex_enclosure, FormFactorMethod, RowSettings, RowSkips};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
-use crate::solve::SolverKind;
+use crate::pipeline::SolverKind;
 use std::sync::Arc;
 
 /// Which work a solve may leave out. Each skip gives the answer of the full

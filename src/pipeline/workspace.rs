@@ -8,7 +8,7 @@ use super::row_groups::RowGroups;
 use super::scale::EmissionScale;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
-use crate::error::{Error, Result};
+use crate::error::{Error, LimitKind, Result};
 use crate::formfactor::{compute_rows_with, emitter_shifts, FormFactors, RowState, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_facing, mark_for_split, Marks, SplitLimits, NEAR_SHARE};
@@ -88,11 +88,14 @@ impl<'a> Workspace<'a> {
             settings.face_clusters,
         )
         .map_err(|e| match e {
-            Error::Limit(text) if fit < settings.max_patches => Error::Limit(format!(
-                "{text} ({fit} patches is what the memory limit of {} can hold; \
+            Error::Limit { message: text, .. } if fit < settings.max_patches => Error::limit(
+                LimitKind::Memory,
+                format!(
+                    "{text} ({fit} patches is what the memory limit of {} can hold; \
                  `max_memory` raises it)",
-                memory::gigabytes(settings.max_memory)
-            )),
+                    memory::gigabytes(settings.max_memory)
+                ),
+            ),
             e => e,
         })?;
         let depth = refine.uniform_depth.unwrap_or(refine.initial_depth);
@@ -507,11 +510,14 @@ pub(crate) fn split_uniformly(
 ) -> Result<()> {
     let leaves = super::memory::leaves_at_depth(mesh, depth, splits);
     if leaves > max_elements as f64 {
-        return Err(Error::Limit(format!(
-            "{} patches split to depth {depth} give {leaves} elements, more than the \
+        return Err(Error::limit(
+            LimitKind::Elements,
+            format!(
+                "{} patches split to depth {depth} give {leaves} elements, more than the \
              element budget of {max_elements}",
-            mesh.patches.len()
-        )));
+                mesh.patches.len()
+            ),
+        ));
     }
     for k in mesh.leaves() {
         if splits[mesh.elements[k].patch as usize] {

@@ -4,9 +4,9 @@
 //! there (an emissive texture's value), which keeps light sampling unbiased
 //! wherever the mean is positive, i.e. wherever a texel can be.
 
-use super::geometry::SurfaceGeometry;
 use super::sampling::Cdf;
 use crate::math::Rgb;
+use crate::scene::rays::SurfaceGeometry;
 use glam::DVec3;
 
 /// The emitting surfaces and the probability of choosing each.

@@ -104,11 +104,9 @@
 //! reduced in fixed chunks in a fixed order: the same seed gives the same bits
 //! at any thread count.
 
-pub(crate) mod accel;
 mod emitters;
 mod estimator;
 mod gather;
-pub(crate) mod geometry;
 mod points;
 mod probes;
 mod rng;
@@ -125,10 +123,9 @@ pub use stats::ProbeEstimate;
 
 use crate::error::{Error, Result};
 use crate::math::Rgb;
+use crate::scene::rays::{Accel, SurfaceGeometry, Tolerances};
 use crate::scene::Scene;
-use accel::Accel;
 use emitters::Emitters;
-use geometry::{SurfaceGeometry, Tolerances};
 use glam::DVec3;
 use surface_means::ObjectArea;
 use textures::Shade;

@@ -1,11 +1,11 @@
 //! Points on surfaces: stratified sample sets over a whole scene, and attaching a
 //! free probe position to the surface it lies on.
 
-use super::geometry::SurfaceGeometry;
 use super::rng::{Domain, Rng};
 use super::sampling::Cdf;
 use super::Reference;
 use crate::error::{Error, Result};
+use crate::scene::rays::SurfaceGeometry;
 use crate::scene::Scene;
 use glam::DVec3;
 

@@ -14,9 +14,9 @@
 //! Without a texture or coordinates a surface keeps its material's constant
 //! reflectance and emission, the very values (and bits) used before textures.
 
-use super::geometry::SurfaceGeometry;
 use super::sampling::tangent_frame;
 use crate::math::Rgb;
+use crate::scene::rays::SurfaceGeometry;
 use crate::scene::{Material, Surface, Texture};
 use glam::{DVec2, DVec3};
 use std::sync::Arc;

@@ -89,14 +89,14 @@ impl Default for RefineSettings {
 }
 
 /// The default [`RefineSettings::dim_floor`].
-pub const DEFAULT_DIM_FLOOR: f64 = 1.0;
+pub(crate) const DEFAULT_DIM_FLOOR: f64 = 1.0;
 
 /// The default [`RefineSettings::near_floor`]: 1, the same scale as the
 /// rest. At 0.1 the atrium's error falls by a third at 10 000 triangles for
 /// 1.07x the CPU time, but in a room lit from inside (the Cornell box) most
 /// leaves along its edges and corners are near and their refinement costs
 /// 1.3x (see `papers/substructuring.md`).
-pub const DEFAULT_NEAR_FLOOR: f64 = 1.0;
+pub(crate) const DEFAULT_NEAR_FLOOR: f64 = 1.0;
 
 /// The share of a leaf's view (form factor) that surfaces nearer than the
 /// leaf's own size must exceed for [`RefineSettings::near_floor`] to apply

@@ -13,7 +13,7 @@ use crate::scene::{Camera, Material, Object, Scene, Surface};
 
 /// Share of the brightest triangle's radiance from which a triangle stands
 /// for an emitter.
-pub const GLOW: f64 = 0.5;
+pub(crate) const GLOW: f64 = 0.5;
 
 /// The default view of `mesh` (see the module notes); the view of a unit
 /// box when the mesh has no usable triangle.

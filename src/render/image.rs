@@ -65,7 +65,7 @@ impl HdrImage {
 
     /// True when the pixel buffer holds exactly `width * height` pixels.
     #[must_use]
-    pub fn is_consistent(&self) -> bool {
+    pub(crate) fn is_consistent(&self) -> bool {
         self.pixels.len() == self.width as usize * self.height as usize
     }
 }

@@ -46,7 +46,7 @@ mod tonemap;
 mod view;
 mod write;
 
-pub use default_view::{default_view, GLOW};
+pub use default_view::default_view;
 pub use depth::DepthBuffer;
 pub use diff::{diff, DiffMetrics};
 pub use false_colour::false_colour;
@@ -54,10 +54,8 @@ pub use frame::{render, render_supersampled, render_with_depth};
 pub use image::HdrImage;
 pub use lines::{draw_segments, draw_segments_depth_tested};
 pub use shaded_mesh::{ShadedMesh, Texels};
-pub use tonemap::{
-    auto_exposure, auto_exposure_above, srgb_encode, to_srgb8, ToneMap, AUTO_EXPOSURE_PERCENTILE,
-    AUTO_EXPOSURE_TARGET,
-};
+pub(crate) use tonemap::auto_exposure_above;
+pub use tonemap::{auto_exposure, srgb_encode, to_srgb8, ToneMap};
 pub use write::{
     read_hdr_image, stage_exr, stage_exr_and_png, stage_hdr, stage_png, stage_rgb8_png, write_exr,
     write_hdr, write_png, write_rgb8_png,

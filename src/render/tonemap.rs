@@ -139,10 +139,10 @@ pub fn to_srgb8(img: &HdrImage, exposure_stops: f64, tone: ToneMap) -> image::Rg
 
 /// The display value (after tone mapping, before sRGB encoding) that
 /// [`auto_exposure`] gives the bright end of the image.
-pub const AUTO_EXPOSURE_TARGET: f64 = 0.8;
+pub(crate) const AUTO_EXPOSURE_TARGET: f64 = 0.8;
 
 /// The luminance percentile [`auto_exposure`] maps to [`AUTO_EXPOSURE_TARGET`].
-pub const AUTO_EXPOSURE_PERCENTILE: f64 = 0.97;
+pub(crate) const AUTO_EXPOSURE_PERCENTILE: f64 = 0.97;
 
 /// The exposure in stops that takes the 97th percentile of pixel luminance to
 /// a grey that `tone` maps to 0.8 (linear display value, before sRGB encoding;
@@ -157,7 +157,7 @@ pub fn auto_exposure(img: &HdrImage, tone: ToneMap) -> f64 {
 /// as well: numerical noise on surfaces no light reaches (1e-12 of a lamp)
 /// is not to be exposed for when nothing else is in view.
 #[must_use]
-pub fn auto_exposure_above(img: &HdrImage, tone: ToneMap, floor: f64) -> f64 {
+pub(crate) fn auto_exposure_above(img: &HdrImage, tone: ToneMap, floor: f64) -> f64 {
     let mut lum: Vec<f64> = img
         .pixels
         .iter()

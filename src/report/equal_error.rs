@@ -4,7 +4,7 @@ use super::{ErrorMetric, Method, RunRecord};
 
 /// Which time of a run to compare.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Clock {
+pub(crate) enum Clock {
     /// [`RunRecord::seconds`]: wall-clock time.
     Wall,
     /// [`RunRecord::cpu_seconds`]: CPU time of the process, steadier on a
@@ -15,7 +15,7 @@ pub enum Clock {
 impl Clock {
     /// The run's time on this clock.
     #[must_use]
-    pub fn of(self, record: &RunRecord) -> Option<f64> {
+    pub(crate) fn of(self, record: &RunRecord) -> Option<f64> {
         match self {
             Clock::Wall => Some(record.seconds),
             Clock::Cpu => record.cpu_seconds,
@@ -26,7 +26,7 @@ impl Clock {
 /// One run of the faster candidate against the cheapest run of the other
 /// method that is at least as accurate.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EqualErrorSpeedup {
+pub(crate) struct EqualErrorSpeedup {
     /// The run's parameter.
     pub parameter: f64,
     /// Its error (in the metric compared).
@@ -46,14 +46,15 @@ pub struct EqualErrorSpeedup {
 impl EqualErrorSpeedup {
     /// The rival's seconds over this run's: above 1 when this run is faster at
     /// equal or better error. `None` when no rival run is that accurate.
+    #[cfg(test)]
     #[must_use]
-    pub fn speedup(&self) -> Option<f64> {
+    pub(crate) fn speedup(&self) -> Option<f64> {
         self.rival.map(|(_, _, s)| s / self.seconds)
     }
 
     /// [`Self::rival_interpolated_seconds`] over this run's seconds.
     #[must_use]
-    pub fn interpolated_speedup(&self) -> Option<f64> {
+    pub(crate) fn interpolated_speedup(&self) -> Option<f64> {
         self.rival_interpolated_seconds.map(|s| s / self.seconds)
     }
 }
@@ -65,7 +66,7 @@ impl EqualErrorSpeedup {
 /// [`EqualErrorSpeedup::speedup`] overstates the candidate's advantage; the
 /// interpolated figure does not. Runs without a time on `clock` are left out.
 #[must_use]
-pub fn equal_error_speedups(
+pub(crate) fn equal_error_speedups(
     records: &[RunRecord],
     candidate: Method,
     rival: Method,

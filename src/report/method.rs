@@ -56,7 +56,7 @@ impl Method {
 
     /// What the method's parameter is.
     #[must_use]
-    pub fn parameter_name(self) -> &'static str {
+    pub(crate) fn parameter_name(self) -> &'static str {
         match self {
             Method::Uniform => "depth",
             Method::Adaptive => "refine tolerance",

@@ -112,7 +112,7 @@ pub fn point_errors(solution: &Solution, reference: &ReferencePoints) -> Result<
 /// Mean, RMS and largest relative error, and the L1 error, of `errors`
 /// measured at `reference`'s points (all zero for no errors).
 #[must_use]
-pub fn error_summary(reference: &ReferencePoints, errors: &[PointError]) -> ErrorSummary {
+pub(crate) fn error_summary(reference: &ReferencePoints, errors: &[PointError]) -> ErrorSummary {
     if errors.is_empty() {
         return ErrorSummary::default();
     }

@@ -54,14 +54,12 @@ mod sweep;
 mod table;
 
 pub use cpu_time::process_cpu_seconds;
-pub use equal_error::{equal_error_speedups, Clock, EqualErrorSpeedup};
+pub(crate) use equal_error::{equal_error_speedups, Clock};
 pub use hidden::sees_only_back_faces;
 pub use markdown::markdown_report;
 pub use method::{Method, SweepRun};
-pub use metrics::{
-    error_summary, point_errors, ErrorMetric, ErrorSummary, PointError, ERROR_FLOOR_FRACTION,
-};
-pub use objects::{object_errors, object_reference, ObjectError, ObjectReference};
+pub use metrics::{point_errors, ErrorMetric, ErrorSummary, PointError, ERROR_FLOOR_FRACTION};
+pub use objects::{object_reference, ObjectError, ObjectReference};
 pub use plan::{SweepPlan, DEFAULT_UNSHOT_FRACTIONS};
 pub use plot::{stage_depth_plot, stage_time_plot, write_depth_plot, write_time_plot};
 pub use points::floor_points;

@@ -65,7 +65,7 @@ pub struct ObjectError {
 
 /// The mean-radiosity error of every non-emitting object with area, in scene
 /// order. Fails if `reference` does not list the scene's objects.
-pub fn object_errors(
+pub(crate) fn object_errors(
     solution: &Solution,
     scene: &Scene,
     reference: &[ObjectReference],

@@ -3,8 +3,8 @@
 use super::{Method, SweepRun};
 use crate::error::{Error, Result};
 use crate::pipeline::Settings;
+use crate::pipeline::SolverKind;
 use crate::scene::Scene;
-use crate::solve::SolverKind;
 
 /// What a sweep varies. Each list gives one run per value; an empty list
 /// leaves its method out.

@@ -162,7 +162,10 @@ fn measure_run(
 fn name_the_run(e: Error, run: &SweepRun) -> Error {
     let what = format!("{} run at {}", run.method, run.parameter);
     match e {
-        Error::Limit(m) => Error::Limit(format!("{what}: {m}")),
+        Error::Limit { limit, message } => Error::Limit {
+            limit,
+            message: format!("{what}: {message}"),
+        },
         Error::Solver(m) => Error::Solver(format!("{what}: {m}")),
         Error::Geometry(m) => Error::Geometry(format!("{what}: {m}")),
         Error::Setting { name, message } => Error::Setting {

@@ -48,7 +48,7 @@ fn key(light: &Light) -> Vec<u64> {
 /// order of the first lights is kept. Returns the lights and how many were
 /// merged away.
 #[must_use]
-pub fn merge_coincident_lights(lights: Vec<Light>) -> (Vec<Light>, usize) {
+pub(crate) fn merge_coincident_lights(lights: Vec<Light>) -> (Vec<Light>, usize) {
     let mut first: HashMap<Vec<u64>, usize> = HashMap::new();
     let mut power: Vec<Rgb> = Vec::new();
     let mut count: Vec<usize> = Vec::new();

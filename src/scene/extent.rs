@@ -125,7 +125,7 @@ impl Scene {
     /// A warning naming the objects far outside the bulk of the scene, when
     /// the scene's size leaves them out (see [`Scene::outliers`]).
     #[must_use]
-    pub fn outlier_warning(&self) -> Option<String> {
+    pub(crate) fn outlier_warning(&self) -> Option<String> {
         let o = self.outliers();
         if o.objects.is_empty() {
             return None;

@@ -246,7 +246,7 @@ impl Light {
 
     /// True when the light gives any light at all.
     #[must_use]
-    pub fn shines(&self) -> bool {
+    pub(crate) fn shines(&self) -> bool {
         self.intensity > 0.0 && self.colour.max_band() > 0.0
     }
 
@@ -297,7 +297,7 @@ impl Light {
 /// The extension's recommended window on the inverse square law: 1 near the
 /// light, falling smoothly to 0 at `range`, `clamp(1 - (d / range)^4, 0, 1)`.
 #[must_use]
-pub fn range_window(range: Option<f64>, distance: f64) -> f64 {
+pub(crate) fn range_window(range: Option<f64>, distance: f64) -> f64 {
     match range {
         None => 1.0,
         Some(r) => (1.0 - (distance / r).powi(4)).clamp(0.0, 1.0),
@@ -309,7 +309,7 @@ pub fn range_window(range: Option<f64>, distance: f64) -> f64 {
 /// clamped, then squared for a smooth edge. Where the cones meet the ramp is
 /// the extension's steepest, 1/0.001 in cosine.
 #[must_use]
-pub fn spot_falloff(inner_cone: f64, outer_cone: f64, cos_angle: f64) -> f64 {
+pub(crate) fn spot_falloff(inner_cone: f64, outer_cone: f64, cos_angle: f64) -> f64 {
     let (cos_inner, cos_outer) = (inner_cone.cos(), outer_cone.cos());
     let scale = 1.0 / (cos_inner - cos_outer).max(0.001);
     let t = ((cos_angle - cos_outer) * scale).clamp(0.0, 1.0);

@@ -46,7 +46,7 @@ impl Material {
     /// A material from its reflectance and emitted *radiance* (as glTF stores it);
     /// the exitance is pi times the radiance. Rejects reflectance outside [0, 1]
     /// and negative or non-finite values, naming the material.
-    pub fn from_radiance(name: &str, reflectance: Rgb, radiance: Rgb) -> Result<Self> {
+    pub(crate) fn from_radiance(name: &str, reflectance: Rgb, radiance: Rgb) -> Result<Self> {
         let m = Material {
             name: name.to_string(),
             reflectance,

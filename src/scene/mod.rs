@@ -11,9 +11,11 @@ mod extent;
 mod facing;
 mod framing;
 mod light;
+pub(crate) mod light_groups;
 mod linear_image;
 mod material;
 mod overlaps;
+pub(crate) mod rays;
 mod regions;
 mod room_view;
 mod rooms;
@@ -23,17 +25,18 @@ mod texture;
 
 pub use builder::SceneBuilder;
 pub use camera::Camera;
-pub use coincident_lights::merge_coincident_lights;
+pub(crate) use coincident_lights::merge_coincident_lights;
 pub use extent::Outliers;
 pub(crate) use facing::facing_warnings;
-pub use light::{range_window, spot_falloff, Incident, Light, LightKind, Target};
+pub use light::{Incident, Light, LightKind, Target};
 pub use linear_image::LinearImage;
 pub use material::{Material, MAX_CONTRACTION};
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::{Overlaps, COPLANAR_GAP};
 pub use sky::{sun, Sky, SkyModel};
 pub use surface::{Surface, MAX_COORDINATE};
-pub use texture::{uv_transform, Texture, Wrap, EMISSION_DEPTH, FOOTPRINT_SAMPLES, SHARP_CONTRAST};
+pub(crate) use texture::uv_transform;
+pub use texture::{Texture, Wrap, EMISSION_DEPTH, FOOTPRINT_SAMPLES, SHARP_CONTRAST};
 
 use glam::DVec3;
 use serde::Serialize;
@@ -183,7 +186,7 @@ impl Scene {
     }
 
     /// Checks every punctual light ([`Light::validate`]).
-    pub fn check_lights(&self) -> crate::Result<()> {
+    pub(crate) fn check_lights(&self) -> crate::Result<()> {
         if let Some(sky) = &self.sky {
             sky.validate()?;
         }

@@ -13,9 +13,8 @@
 //! light. The main lit room is the largest lit one (the largest enclosed
 //! one when none is lit), if it is large enough for a person to stand in.
 
+use super::rays::{Accel, SurfaceGeometry, Tolerances};
 use super::{Scene, Surface};
-use crate::reference::accel::Accel;
-use crate::reference::geometry::{SurfaceGeometry, Tolerances};
 use glam::DVec3;
 
 /// Share of rays from a point that must meet a surface for it to be

@@ -91,7 +91,7 @@ impl Sky {
     /// below the horizon.
     #[inline]
     #[must_use]
-    pub fn relative_radiance(&self, w: DVec3) -> f64 {
+    pub(crate) fn relative_radiance(&self, w: DVec3) -> f64 {
         let c = w.dot(UP);
         if c <= 0.0 {
             return 0.0;
@@ -115,7 +115,7 @@ impl Sky {
     /// `integral max(0, n.w) dw = pi (1 + cos b) / 2` and
     /// `integral max(0, n.w) cos theta dw = 2/3 ((pi - b) cos b + sin b)`.
     #[must_use]
-    pub fn unobstructed_irradiance(&self, normal: DVec3) -> Rgb {
+    pub(crate) fn unobstructed_irradiance(&self, normal: DVec3) -> Rgb {
         let cos_b = normal.dot(UP).clamp(-1.0, 1.0);
         let b = cos_b.acos();
         let flat = PI * (1.0 + cos_b) / 2.0;
@@ -131,7 +131,7 @@ impl Sky {
 
     /// The illuminance of an unobstructed horizontal surface facing up.
     #[must_use]
-    pub fn horizontal_illuminance(&self) -> Rgb {
+    pub(crate) fn horizontal_illuminance(&self) -> Rgb {
         self.unobstructed_irradiance(UP)
     }
 }

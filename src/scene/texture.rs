@@ -31,7 +31,7 @@ impl Wrap {
     /// The wrap mode of a glTF sampler code (10497, 33648, 33071); any other
     /// code is glTF's default, repeat.
     #[must_use]
-    pub fn from_gltf(code: u32) -> Self {
+    pub(crate) fn from_gltf(code: u32) -> Self {
         match code {
             33648 => Wrap::MirroredRepeat,
             33071 => Wrap::ClampToEdge,
@@ -308,7 +308,7 @@ fn saturate(x: f64) -> i64 {
 /// The `KHR_texture_transform` matrix: `T * R * S` as the extension defines
 /// it (rotation counter-clockwise in UV space, which runs down the image).
 #[must_use]
-pub fn uv_transform(offset: [f64; 2], rotation: f64, scale: [f64; 2]) -> DMat3 {
+pub(crate) fn uv_transform(offset: [f64; 2], rotation: f64, scale: [f64; 2]) -> DMat3 {
     let (s, c) = rotation.sin_cos();
     let t = DMat3::from_cols_array(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, offset[0], offset[1], 1.0]);
     let r = DMat3::from_cols_array(&[c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0]);

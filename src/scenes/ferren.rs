@@ -61,7 +61,7 @@ pub const DEPTH: f64 = 1.5;
 /// Emitted radiance of the window, per band (white daylight).
 pub const WINDOW_RADIANCE: f64 = 10.0;
 /// Emitted radiance of the fill strip, per band.
-pub const FILL_RADIANCE: f64 = 1.0;
+pub(crate) const FILL_RADIANCE: f64 = 1.0;
 /// Reflectance of the white paint on the panels' fronts, per band.
 pub const WHITE_PAINT: f64 = 0.8;
 

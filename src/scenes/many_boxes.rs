@@ -23,7 +23,7 @@ pub const MARGIN: f64 = 1.0;
 /// Room height (m).
 pub const HEIGHT: f64 = 4.0;
 /// Lights hang this far below the ceiling (m), so they do not lie in its plane.
-pub const LIGHT_DROP: f64 = 0.01;
+pub(crate) const LIGHT_DROP: f64 = 0.01;
 /// Edge of each square light (m).
 pub const LIGHT_SIZE: f64 = 1.0;
 

@@ -26,11 +26,11 @@ use crate::scene::{Camera, Scene, SceneBuilder};
 use glam::{DQuat, DVec3};
 
 /// Height of the light plane (m).
-pub const LIGHT_HEIGHT: f64 = 3.0;
+pub(crate) const LIGHT_HEIGHT: f64 = 3.0;
 /// Height of the (first) occluder (m), half-way to the light.
-pub const OCCLUDER_HEIGHT: f64 = 1.5;
+pub(crate) const OCCLUDER_HEIGHT: f64 = 1.5;
 /// Half the side of the square floor (m).
-pub const FLOOR_HALF_SIDE: f64 = 2.0;
+pub(crate) const FLOOR_HALF_SIDE: f64 = 2.0;
 /// Reflectance of the floor, in every band.
 pub const FLOOR_REFLECTANCE: f64 = 0.5;
 /// Relative tolerance of [`PenumbraSpec::exact_element_mean`], relative to the
@@ -56,7 +56,7 @@ pub struct PenumbraSpec {
 }
 
 /// A function that builds one variant.
-pub type VariantBuilder = fn() -> PenumbraSpec;
+pub(crate) type VariantBuilder = fn() -> PenumbraSpec;
 
 /// Every variant: its name and the function that builds it.
 pub const VARIANTS: [(&str, VariantBuilder); 6] = [
@@ -108,7 +108,7 @@ pub fn penumbra_rotated() -> PenumbraSpec {
 /// An equilateral triangular light of side 1.2 m centred above the origin, with
 /// the occluder of [`penumbra_parallel`].
 #[must_use]
-pub fn penumbra_triangle_light() -> PenumbraSpec {
+pub(crate) fn penumbra_triangle_light() -> PenumbraSpec {
     let side = 1.2;
     let height = side * 3f64.sqrt() / 2.0;
     let y = LIGHT_HEIGHT;
@@ -148,7 +148,7 @@ pub fn penumbra_narrow() -> PenumbraSpec {
 /// A large (2 m) square light: a penumbra 2 m wide and no umbra (the occluder
 /// hides all of the light from no floor point but one).
 #[must_use]
-pub fn penumbra_wide() -> PenumbraSpec {
+pub(crate) fn penumbra_wide() -> PenumbraSpec {
     spec(
         "penumbra_wide",
         square_facing_down(DVec3::new(0.0, LIGHT_HEIGHT, 0.0), 2.0),

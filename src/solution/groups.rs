@@ -1,10 +1,11 @@
 //! A solution's light groups: each group's radiosity on the one refined
 //! mesh, and views of the solution as if only one group shone.
 
+use super::emission_mask::{mask, unmask};
 use super::Solution;
-use crate::light_groups::mask::{mask, unmask};
-use crate::light_groups::{KeptShapes, LightGroups};
 use crate::mesh::ShadingMesh;
+use crate::scene::light_groups::LightGroups;
+use crate::solve::KeptShapes;
 use crate::solve::Radiosity;
 use std::sync::Arc;
 

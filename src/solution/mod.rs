@@ -1,22 +1,27 @@
 //! The view-independent solution: element, patch and vertex radiosities,
 //! per-object means, probes at points, and a view of each leaf.
 
+mod emission_mask;
 mod groups;
 mod leaf;
 mod objects;
 mod probe;
+mod progressive_stats;
 mod stats;
 mod texels;
 
+pub(crate) use emission_mask::{mask, unmask};
 pub(crate) use groups::GroupParts;
 pub use leaf::Leaf;
 pub(crate) use objects::object_means;
 pub use objects::ObjectRadiosity;
 pub use probe::{ProbeHit, ProbeTolerance, SolutionProbe};
+pub use progressive_stats::{HistoryPoint, ProgressiveStats, ShootingPass, StopReason};
 pub use stats::{
     DirectFigures, EnergyBalance, HemicubeFigures, MemoryFigures, PassStats, SkipStats, SolveStats,
-    SourcePassStats, StageSeconds, CLOSED_ESCAPE, ENERGY_WARNING,
+    SourcePassStats, StageSeconds,
 };
+pub use stats::{CLOSED_ESCAPE, ENERGY_WARNING};
 pub(crate) use texels::texel_surfaces;
 
 use crate::formfactor::FormFactors;

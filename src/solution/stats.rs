@@ -237,7 +237,7 @@ pub struct SolveStats {
     /// Shots, unshot power and the other figures of a progressive solve
     /// (`None` for Gauss-Seidel).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub progressive: Option<crate::solve::progressive::ProgressiveStats>,
+    pub progressive: Option<super::ProgressiveStats>,
     /// Punctual lights' direct light (`None` when the scene has none).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub direct: Option<DirectFigures>,

@@ -98,12 +98,12 @@ pub struct Balance {
 pub const MAX_SCALE: f64 = 1.25;
 
 /// Most rounds of fitting.
-pub const MAX_ROUNDS: usize = 32;
+pub(crate) const MAX_ROUNDS: usize = 32;
 
 /// Fitting stops once every balanced column is within this relative
 /// difference of its patch's exposure (single-precision rows carry about
 /// `1e-7`).
-pub const TOLERANCE: f64 = 1e-6;
+pub(crate) const TOLERANCE: f64 = 1e-6;
 
 impl Balance {
     /// The scale of patch `j` as its receivers see it.
@@ -123,7 +123,7 @@ impl Balance {
     /// Whether patch `j` took no part.
     #[inline]
     #[must_use]
-    pub fn is_excluded(&self, j: usize) -> bool {
+    pub(crate) fn is_excluded(&self, j: usize) -> bool {
         self.excluded.get(j).copied().unwrap_or(false)
     }
 

@@ -27,7 +27,7 @@ use crate::mesh::Mesh;
 
 /// The most reflections a truncated solve may ask for: beyond a few dozen the
 /// truncation is invisible next to the full solution, which is cheaper.
-pub const MAX_BOUNCES: u32 = 1000;
+pub(crate) const MAX_BOUNCES: u32 = 1000;
 
 /// `B^(reflections)`: the patch radiosities after exactly `reflections`
 /// reflections of the emitted light (see the module notes), every band at once.

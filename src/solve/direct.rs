@@ -29,7 +29,7 @@ use slotmap::SecondaryMap;
 
 /// Per leaf element, the irradiance from the scene's punctual lights.
 #[derive(Clone, Debug, Default)]
-pub struct DirectLight {
+pub(crate) struct DirectLight {
     irradiance: SecondaryMap<ElementKey, Rgb>,
     /// Shadow rays cast so far.
     pub shadow_rays: u64,
@@ -40,7 +40,7 @@ impl DirectLight {
     /// computed).
     #[inline]
     #[must_use]
-    pub fn irradiance(&self, k: ElementKey) -> Rgb {
+    pub(crate) fn irradiance(&self, k: ElementKey) -> Rgb {
         self.irradiance.get(k).copied().unwrap_or(Rgb::ZERO)
     }
 
@@ -48,7 +48,7 @@ impl DirectLight {
     /// to the leaf's emission.
     #[inline]
     #[must_use]
-    pub fn exitance(&self, mesh: &Mesh, k: ElementKey) -> Rgb {
+    pub(crate) fn exitance(&self, mesh: &Mesh, k: ElementKey) -> Rgb {
         let rho = mesh.elements[k].reflectance;
         rho * self.irradiance(k)
     }
@@ -113,7 +113,7 @@ impl DirectLight {
     /// The power the lights deliver to the leaves' fronts, `sum A_e Hd_e`
     /// per band.
     #[must_use]
-    pub fn incident_power(&self, mesh: &Mesh) -> Rgb {
+    pub(crate) fn incident_power(&self, mesh: &Mesh) -> Rgb {
         mesh.leaves()
             .into_iter()
             .map(|k| self.irradiance(k) * mesh.elements[k].area)
@@ -178,12 +178,6 @@ impl DirectLight {
         {
             system.emission[p] = mesh.patch_emission(p as u32) + d;
         }
-    }
-
-    /// Heap bytes held.
-    #[must_use]
-    pub fn heap_bytes(&self) -> usize {
-        self.irradiance.capacity() * std::mem::size_of::<(u32, Rgb)>()
     }
 }
 

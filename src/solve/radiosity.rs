@@ -41,13 +41,13 @@ impl Radiosity {
 
     /// Sets element node `k`'s radiosity.
     #[inline]
-    pub fn set_element(&mut self, k: ElementKey, value: Rgb) {
+    pub(crate) fn set_element(&mut self, k: ElementKey, value: Rgb) {
         self.elements.insert(k, value);
     }
 
     /// Adds `delta` to element node `k`'s radiosity.
     #[inline]
-    pub fn add_to_element(&mut self, k: ElementKey, delta: Rgb) {
+    pub(crate) fn add_to_element(&mut self, k: ElementKey, delta: Rgb) {
         match self.elements.get_mut(k) {
             Some(v) => *v += delta,
             None => {
@@ -63,7 +63,7 @@ impl Radiosity {
     }
 
     /// Replaces the patches' radiosities.
-    pub fn set_patches(&mut self, values: &[Rgb]) {
+    pub(crate) fn set_patches(&mut self, values: &[Rgb]) {
         self.patches.clear();
         self.patches.extend_from_slice(values);
     }
@@ -88,7 +88,7 @@ impl Radiosity {
 
     /// Sets every interior node below `key` to the area-weighted mean of its
     /// children, and returns `key`'s value.
-    pub fn push_up(&mut self, mesh: &Mesh, key: ElementKey) -> Rgb {
+    pub(crate) fn push_up(&mut self, mesh: &Mesh, key: ElementKey) -> Rgb {
         let e = &mesh.elements[key];
         if e.is_leaf() {
             return self.element(key);
@@ -104,7 +104,7 @@ impl Radiosity {
 
     /// Sets every interior node of patch `p`'s trees to the area-weighted
     /// mean of its children, and returns the patch's area-weighted mean.
-    pub fn patch_mean(&mut self, mesh: &Mesh, p: &Patch) -> Rgb {
+    pub(crate) fn patch_mean(&mut self, mesh: &Mesh, p: &Patch) -> Rgb {
         if let [root] = p.roots[..] {
             return self.push_up(mesh, root);
         }

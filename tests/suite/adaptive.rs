@@ -27,10 +27,10 @@ fn finest_elements_lie_in_the_penumbra() {
     let leaves: Vec<_> = sol
         .leaves()
         .into_iter()
-        .filter(|e| sol.mesh().surfaces()[e.surface as usize].object == floor)
+        .filter(|e| sol.mesh().surfaces()[e.surface() as usize].object == floor)
         .collect();
-    let deepest = leaves.iter().map(|e| e.depth).max().unwrap();
-    let shallowest = leaves.iter().map(|e| e.depth).min().unwrap();
+    let deepest = leaves.iter().map(|e| e.depth()).max().unwrap();
+    let shallowest = leaves.iter().map(|e| e.depth()).min().unwrap();
     assert!(
         deepest >= shallowest + 2,
         "refinement must concentrate somewhere"
@@ -40,15 +40,15 @@ fn finest_elements_lie_in_the_penumbra() {
         let n = spec.floor_normal();
         oracle.visible_form_factor(p, n).unwrap() / oracle.unoccluded_form_factor(p, n).unwrap()
     };
-    for e in leaves.iter().filter(|e| e.depth == deepest) {
+    for e in leaves.iter().filter(|e| e.depth() == deepest) {
         // Sample a neighbourhood three element widths across: somewhere in it the
         // light must be partly hidden (penumbra), or it must hold both lit and
         // umbra points.
-        let r = 1.5 * e.area.sqrt();
+        let r = 1.5 * e.area().sqrt();
         let mut fractions = Vec::new();
         for i in -4..=4 {
             for j in -4..=4 {
-                let p = e.centroid + DVec3::new(f64::from(i), 0.0, f64::from(j)) * (r / 4.0);
+                let p = e.centroid() + DVec3::new(f64::from(i), 0.0, f64::from(j)) * (r / 4.0);
                 fractions.push(visible(p));
             }
         }
@@ -56,7 +56,7 @@ fn finest_elements_lie_in_the_penumbra() {
         assert!(
             partial,
             "a finest element at {:?} is far from the penumbra",
-            e.centroid
+            e.centroid()
         );
     }
 }
@@ -92,18 +92,18 @@ fn shading_is_continuous_across_refined_and_unrefined_neighbours() {
     let mut checked = 0;
     let scale = mesh.radiosity.iter().map(|b| b[0]).fold(0.0, f64::max);
     for (key, e) in sol.mesh().elements() {
-        let lattice = &sol.mesh().surfaces()[e.surface as usize];
+        let lattice = &sol.mesh().surfaces()[e.surface() as usize];
         if !e.is_leaf() || lattice.object != floor {
             continue;
         }
-        let poly = lattice.polygon(&e.cell);
+        let poly = lattice.polygon(&e.cell());
         for (i, n) in sol.mesh().edge_neighbours(key).into_iter().enumerate() {
             let Some(n) = n else { continue };
-            if sol.mesh()[n].depth >= e.depth {
+            if sol.mesh()[n].depth() >= e.depth() {
                 continue; // only edges where the other side is coarser
             }
             let (p0, p1) = (poly[i], poly[(i + 1) % poly.len()]);
-            let inward = (e.centroid - (p0 + p1) * 0.5).normalize() * 1e-7;
+            let inward = (e.centroid() - (p0 + p1) * 0.5).normalize() * 1e-7;
             for t in [0.25, 0.5, 0.75] {
                 let p = p0.lerp(p1, t);
                 let fine = shaded_at(&mesh, p + inward).unwrap();
@@ -112,8 +112,8 @@ fn shading_is_continuous_across_refined_and_unrefined_neighbours() {
                     (fine - coarse).abs() <= 1e-5 * scale,
                     "jump {} at {p:?} between depth {} and {}",
                     fine - coarse,
-                    e.depth,
-                    sol.mesh()[n].depth
+                    e.depth(),
+                    sol.mesh()[n].depth()
                 );
                 checked += 1;
             }
@@ -253,7 +253,7 @@ fn a_dim_floor_refines_a_dim_shadow_as_one_in_full_light() {
     let tile_value = sol
         .leaves()
         .into_iter()
-        .filter(|e| e.surface as usize == tile)
+        .filter(|e| e.surface() as usize == tile)
         .map(|e| e.radiosity[0])
         .fold(0.0, f64::max);
     let ratio = tile_value / alone.light_on;

@@ -90,7 +90,7 @@ fn targets_outside_the_range_are_refused() {
         density: 60.0,
     };
     assert!(huge.triangles().unwrap() > atrium::MAX_BUILT_TRIANGLES);
-    assert!(matches!(atrium_sized(&huge), Err(Error::Limit(_))));
+    assert!(matches!(atrium_sized(&huge), Err(Error::Limit { .. })));
 }
 
 #[test]
@@ -208,7 +208,7 @@ fn solver_accepts(scene: &Scene) -> Result<(), String> {
         ..Settings::default()
     };
     match radiosity::solve(scene, &settings, &|_| {}) {
-        Err(Error::Limit(_)) => Ok(()),
+        Err(Error::Limit { .. }) => Ok(()),
         Err(e) => Err(e.to_string()),
         Ok(_) => panic!("a one-patch limit cannot hold the atrium"),
     }

@@ -12,8 +12,8 @@ use super::stress_scenes::{
 use glam::DVec3;
 use radiosity::analytic::lambert;
 use radiosity::math::Rgb;
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::scene::{Overlaps, Scene, SceneBuilder};
-use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{Settings, Solution};
 
 const FURNACE_RHO: f64 = 0.5;
@@ -43,8 +43,8 @@ fn assert_furnace(sol: &Solution, what: &str) {
         assert!(
             rel(e.radiosity[0], exact) < 0.005,
             "{what}: element at {} (area {:.2e}) has {} instead of {exact}",
-            e.centroid,
-            e.area,
+            e.centroid(),
+            e.area(),
             e.radiosity[0]
         );
     }
@@ -143,9 +143,9 @@ fn elements_within(
 ) -> Vec<radiosity::solution::Leaf<'_>> {
     leaves(sol)
         .into_iter()
-        .filter(|e| e.surface == surface)
+        .filter(|e| e.surface() == surface)
         .filter(|e| {
-            let poly = sol.mesh().surfaces()[e.surface as usize].polygon(&e.cell);
+            let poly = sol.mesh().surfaces()[e.surface() as usize].polygon(&e.cell());
             poly.iter().all(|p| {
                 p.x >= x.0 - 1e-12 && p.x <= x.1 + 1e-12 && p.z >= z.0 - 1e-12 && p.z <= z.1 + 1e-12
             })
@@ -183,18 +183,18 @@ fn a_light_a_ten_thousandth_of_the_scene_below_the_ceiling() {
     let exitance = LIGHT_RADIANCE * std::f64::consts::PI;
     let floor: Vec<_> = leaves(&sol)
         .into_iter()
-        .filter(|e| e.surface == 0)
+        .filter(|e| e.surface() == 0)
         .collect();
     assert!(floor.len() > 50);
     let mut worst: f64 = 0.0;
     for e in floor {
-        let f = lambert::point_to_polygon(e.centroid, DVec3::Y, &light_polygon).unwrap();
+        let f = lambert::point_to_polygon(e.centroid(), DVec3::Y, &light_polygon).unwrap();
         let direct = 0.5 * exitance * f;
         worst = worst.max(rel(e.radiosity[0], direct));
         assert!(
             rel(e.radiosity[0], direct) < 0.01,
             "floor element at {}: {} instead of {direct}",
-            e.centroid,
+            e.centroid(),
             e.radiosity[0]
         );
     }
@@ -213,14 +213,15 @@ fn a_light_a_ten_thousandth_of_the_scene_below_the_ceiling() {
     assert!(hidden.len() >= 4);
     for e in hidden {
         assert_eq!(
-            e.radiosity[0], 0.0,
+            e.radiosity[0],
+            0.0,
             "ceiling element at {} is lit",
-            e.centroid
+            e.centroid()
         );
     }
     let lit = leaves(&sol)
         .into_iter()
-        .filter(|e| e.surface == 1)
+        .filter(|e| e.surface() == 1)
         .map(|e| e.radiosity[0])
         .fold(0.0, f64::max);
     assert!(lit > 0.0, "the rest of the ceiling is lit by the floor");
@@ -346,16 +347,16 @@ fn a_light_flush_with_the_ceiling_lights_the_room_as_one_just_below_it() {
         assert_finite_non_negative(&sol, "flush, black ceiling");
         let floor: Vec<_> = leaves(&sol)
             .into_iter()
-            .filter(|e| scene.surfaces[e.surface as usize].object == 0)
+            .filter(|e| scene.surfaces[e.surface() as usize].object == 0)
             .collect();
         assert!(floor.len() > 50);
         for e in floor {
-            let f = lambert::point_to_polygon(e.centroid, DVec3::Y, &light_polygon).unwrap();
+            let f = lambert::point_to_polygon(e.centroid(), DVec3::Y, &light_polygon).unwrap();
             let direct = 0.5 * exitance * f;
             assert!(
                 rel(e.radiosity[0], direct) < 0.01,
                 "gap {gap}: floor element at {}: {} instead of {direct}",
-                e.centroid,
+                e.centroid(),
                 e.radiosity[0]
             );
         }
@@ -435,22 +436,22 @@ fn assert_no_light_under_the_box(sol: &Solution, what: &str) -> f64 {
     // refinement along the contact line keeps narrow.
     let mut under = 0;
     let mut leaked_area = 0.0;
-    for e in leaves(sol).into_iter().filter(|e| e.surface == 0) {
+    for e in leaves(sol).into_iter().filter(|e| e.surface() == 0) {
         let covered = e.row.view().map_or(0.0, |v| v.covered);
         if covered > 0.0 {
             assert!(covered < 1.0, "{what}: {covered}");
             continue;
         }
-        if inside_footprint(e.centroid) {
+        if inside_footprint(e.centroid()) {
             under += 1;
             assert_eq!(
                 e.radiosity.max_band(),
                 0.0,
                 "{what}: floor element at {} under the box is lit",
-                e.centroid
+                e.centroid()
             );
         } else if e.radiosity.max_band() > 0.0 {
-            let poly = sol.mesh().surfaces()[0].polygon(&e.cell);
+            let poly = sol.mesh().surfaces()[0].polygon(&e.cell());
             let (lo, hi) = poly.iter().fold(
                 (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
                 |(lo, hi), p| (lo.min(*p), hi.max(*p)),
@@ -478,9 +479,14 @@ fn no_light_leaks_under_a_box_standing_on_the_floor() {
     );
     // The box's bottom face lies on the floor facing down: it sees nothing.
     for e in leaves(&sol) {
-        let s = &scene.surfaces[e.surface as usize];
-        if s.normal == -DVec3::Y && e.centroid.y == 0.0 {
-            assert_eq!(e.radiosity.max_band(), 0.0, "box bottom at {}", e.centroid);
+        let s = &scene.surfaces[e.surface() as usize];
+        if s.normal == -DVec3::Y && e.centroid().y == 0.0 {
+            assert_eq!(
+                e.radiosity.max_band(),
+                0.0,
+                "box bottom at {}",
+                e.centroid()
+            );
         }
     }
     let energy = energy_errors(&sol);
@@ -496,13 +502,13 @@ fn a_box_through_the_floor_neither_leaks_nor_lights_what_is_below() {
     // Box elements below the floor see only the floor's back.
     let mut below = 0;
     for e in leaves(&sol) {
-        if e.surface >= 7 && e.centroid.y < 0.0 {
+        if e.surface() >= 7 && e.centroid().y < 0.0 {
             below += 1;
             assert_eq!(
                 e.radiosity.max_band(),
                 0.0,
                 "box below floor at {}",
-                e.centroid
+                e.centroid()
             );
         }
     }
@@ -529,7 +535,7 @@ fn emitters_from_1e_minus_6_to_1e6_scale_the_solution_linearly() {
                 assert!(
                     (scaled - y.radiosity[band]).abs() <= 1e-9 * y.radiosity.max_band().max(1e-300),
                     "radiance {radiance}: element at {}: {scaled} vs {}",
-                    x.centroid,
+                    x.centroid(),
                     y.radiosity[band]
                 );
             }
@@ -584,12 +590,12 @@ fn the_progressive_solver_keeps_the_furnace_and_the_box_dark_beneath() {
         assert_finite_non_negative(&sol, "box, progressive");
         assert_no_light_under_the_box(&sol, "box, progressive");
         for e in leaves(&sol) {
-            if e.surface >= 7 && e.centroid.y < 0.0 {
+            if e.surface() >= 7 && e.centroid().y < 0.0 {
                 assert_eq!(
                     e.radiosity.max_band(),
                     0.0,
                     "box below floor at {}",
-                    e.centroid
+                    e.centroid()
                 );
             }
         }

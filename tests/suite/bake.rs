@@ -488,7 +488,7 @@ fn malformed_baked_files_are_named() {
         ..ImportLimits::default()
     };
     let e = load_baked(&triangle_file("limited", 3, ""), &tight).unwrap_err();
-    assert!(matches!(e, Error::Limit(_)), "{e}");
+    assert!(matches!(e, Error::Limit { .. }), "{e}");
 }
 
 /// Standard base64 (the suite has no encoder of its own).

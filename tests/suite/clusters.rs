@@ -6,9 +6,9 @@
 use super::common::rel;
 use super::stress_scenes::{downward_quad, energy_errors, room, v};
 use radiosity::math::Rgb;
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{Settings, Solution};
 use std::f64::consts::TAU;
 

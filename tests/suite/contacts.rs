@@ -7,9 +7,9 @@
 
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::reference::{Reference, ReferenceSettings};
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::solve::SolverKind;
 use radiosity::Settings;
 
 fn v(x: f64, y: f64, z: f64) -> DVec3 {
@@ -227,12 +227,12 @@ fn a_partly_covered_element_shows_the_light_of_its_visible_part() {
     // visible part.
     let mut leaves = Vec::new();
     for leaf in sol.leaves() {
-        let surface = leaf.surface;
+        let surface = leaf.surface();
         if scene.surfaces[surface as usize].object != top || !(0.05..0.95).contains(&leaf.visible())
         {
             continue;
         }
-        let corners = sol.mesh().surfaces()[surface as usize].polygon(&leaf.cell);
+        let corners = sol.mesh().surfaces()[surface as usize].polygon(&leaf.cell());
         let mut spots = Vec::new();
         for i in 0..6 {
             for j in 0..6 {
@@ -290,7 +290,7 @@ fn a_partly_covered_element_shows_the_light_of_its_visible_part() {
         let mean = leaf.radiosity.0[band];
         eprintln!(
             "leaf at {}: visible share {:.3}, traced {truth:.4} +- {sigma:.4}, visible part {visible:.4}, shown {shown:.4}, leaf mean {mean:.4}",
-            leaf.centroid,
+            leaf.centroid(),
             leaf.visible()
         );
         // Measured: the visible parts within 11% (the row is taken at one

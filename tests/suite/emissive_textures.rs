@@ -6,9 +6,9 @@ use glam::{DVec2, DVec3};
 use radiosity::analytic::{parallel_rectangles, point_to_rectangle_corner};
 use radiosity::gltf_io::{load_scene, ImportLimits};
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::scene::{Scene, SceneBuilder, Texture, Wrap};
 use radiosity::solution::Leaf;
-use radiosity::solve::SolverKind;
 use radiosity::{Settings, Solution};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -100,9 +100,9 @@ fn solve(scene: &Scene, kind: SolverKind) -> Solution {
 /// Area-weighted mean of the first band of `value` over surface `s`'s leaves.
 fn mean_over(sol: &Solution, s: u32, value: impl Fn(&Leaf) -> f64) -> f64 {
     let (mut sum, mut area) = (0.0, 0.0);
-    for leaf in sol.leaves().iter().filter(|l| l.surface == s) {
-        sum += value(leaf) * leaf.area;
-        area += leaf.area;
+    for leaf in sol.leaves().iter().filter(|l| l.surface() == s) {
+        sum += value(leaf) * leaf.area();
+        area += leaf.area();
     }
     sum / area
 }
@@ -135,13 +135,13 @@ fn a_small_bright_square_lights_what_faces_it_as_the_square_alone() {
         // the receiver differs from the centroids' by how coarsely the
         // receiver is cut, which is not what this test is about).
         let (mut got, mut want, mut area, mut worst) = (0.0, 0.0, 0.0, 0.0f64);
-        for leaf in sol.leaves().iter().filter(|l| l.surface == 1) {
+        for leaf in sol.leaves().iter().filter(|l| l.surface() == 1) {
             let h = leaf.radiosity.0[0] / RHO;
-            let exact_here = EXITANCE * point_to_square(leaf.centroid.x, leaf.centroid.z);
+            let exact_here = EXITANCE * point_to_square(leaf.centroid().x, leaf.centroid().z);
             worst = worst.max((h / exact_here - 1.0).abs());
-            got += h * leaf.area;
-            want += exact_here * leaf.area;
-            area += leaf.area;
+            got += h * leaf.area();
+            want += exact_here * leaf.area();
+            area += leaf.area();
         }
         let (got, want) = (got / area, want / area);
         let error = got / want - 1.0;
@@ -154,7 +154,7 @@ fn a_small_bright_square_lights_what_faces_it_as_the_square_alone() {
         assert!(error.abs() < 0.01, "{kind:?}: {got} vs {want}");
         assert!(worst < 0.03, "{kind:?}: {worst}");
         // The panel emits what its texture holds, in total.
-        let emitted = mean_over(&sol, 0, |l| l.emission.0[0]);
+        let emitted = mean_over(&sol, 0, |l| l.emission().0[0]);
         let texture = EXITANCE / (TEXELS * TEXELS) as f64;
         assert!(
             (emitted / texture - 1.0).abs() < 0.01,
@@ -172,11 +172,11 @@ fn the_bright_square_gets_patches_of_its_own_size_and_the_rest_stays_dark() {
     let sol = solve(&panel_over_receiver(true), SolverKind::GaussSeidel);
     let mesh = sol.mesh();
     let panel: Vec<_> = (0..mesh.patches().len() as u32)
-        .filter(|&p| mesh.patches()[p as usize].surface == 0)
+        .filter(|&p| mesh.patches()[p as usize].surface() == 0)
         .collect();
     let untextured = solve(&panel_over_receiver(false), SolverKind::GaussSeidel);
     let plain = (0..untextured.mesh().patches().len())
-        .filter(|&p| untextured.mesh().patches()[p].surface == 0)
+        .filter(|&p| untextured.mesh().patches()[p].surface() == 0)
         .count();
     // Cut finer than the 4 x 4 the patch size gives, to patches no wider
     // than half the square.
@@ -184,7 +184,7 @@ fn the_bright_square_gets_patches_of_its_own_size_and_the_rest_stays_dark() {
     let side = 1.0 / TEXELS as f64;
     let widest = panel
         .iter()
-        .map(|&p| mesh.patches()[p as usize].area.sqrt())
+        .map(|&p| mesh.patches()[p as usize].area().sqrt())
         .fold(0.0, f64::max);
     assert!(widest <= side / 2.0 + 1e-12, "{widest}");
     // Patches wholly inside the square emit all of it; those clear of it,
@@ -192,7 +192,7 @@ fn the_bright_square_gets_patches_of_its_own_size_and_the_rest_stays_dark() {
     let (lo, hi) = square();
     let (mut inside, mut outside) = (0, 0);
     for &p in &panel {
-        let poly = &mesh.patches()[p as usize].polygon;
+        let poly = &mesh.patches()[p as usize].polygon();
         let min = poly.iter().fold(DVec3::INFINITY, |a, q| a.min(*q));
         let max = poly.iter().fold(DVec3::NEG_INFINITY, |a, q| a.max(*q));
         let e = mesh.patch_emission(p).0[0];
@@ -301,15 +301,15 @@ fn a_gltf_emissive_texture_gives_each_element_its_own_emission() {
     let sol = radiosity::solve(&scene, &settings, &|_| {}).unwrap();
     let mut bright = 0;
     for leaf in sol.leaves() {
-        let material = &scene.materials[scene.surfaces[leaf.surface as usize].material as usize];
+        let material = &scene.materials[scene.surfaces[leaf.surface() as usize].material as usize];
         if material.name != "glow" {
-            assert_eq!(leaf.emission, Rgb::ZERO);
+            assert_eq!(leaf.emission(), Rgb::ZERO);
             continue;
         }
         // Texel row 0 (v < 1/2: z < 1), column 1 (u >= 1/2: x >= 1).
-        let c = leaf.centroid;
+        let c = leaf.centroid();
         let inside = c.x > 1.0 && c.z < 1.0;
-        let e = leaf.emission.0[0];
+        let e = leaf.emission().0[0];
         if inside {
             assert!((e - 2.0 * PI).abs() < 1e-9, "{e} at {c}");
             bright += 1;

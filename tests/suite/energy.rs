@@ -8,11 +8,11 @@ use super::stress_scenes::{downward_quad, room, v};
 use glam::DVec3;
 use radiosity::math::Rgb;
 use radiosity::pipeline::Skips;
+use radiosity::pipeline::SolverKind;
 use radiosity::reference::{Reference, ReferenceSettings};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::solve::progressive::StopReason;
-use radiosity::solve::SolverKind;
+use radiosity::solution::StopReason;
 use radiosity::{Settings, Solution};
 
 /// A closed 1 m room whose only light is a 0.2 m square lamp facing down

@@ -8,11 +8,11 @@ use radiosity::analytic::QuadratureSettings;
 use radiosity::analytic::{integrate_over_polygon, parallel_rectangles, point_to_polygon};
 use radiosity::formfactor::EmitterSampling;
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder};
 use radiosity::scenes::ferren::{ferren_sculpture, WHITE_PAINT};
 use radiosity::solution::ObjectRadiosity;
-use radiosity::solve::SolverKind;
 use radiosity::{Error, Settings};
 
 /// Coarse settings: one element per patch, a small hemi-cube, no shadow rays

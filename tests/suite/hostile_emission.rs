@@ -9,8 +9,8 @@ use glam::DVec3;
 use radiosity::gltf_io::{load_scene, write_scene, ImportLimits};
 use radiosity::math::Rgb;
 use radiosity::pipeline::solve_with_previews;
+use radiosity::pipeline::SolverKind;
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::solve::SolverKind;
 use radiosity::{Error, Settings, Solution};
 use std::path::Path;
 

@@ -207,7 +207,8 @@ fn try_file(name: &str, bytes: &[u8], tally: &Tally) -> Result<(), String> {
                 if !(e.radiosity.is_finite() && e.radiosity.min_band() >= 0.0) {
                     return Err(format!(
                         "element at {} has radiosity {:?}",
-                        e.centroid, e.radiosity.0
+                        e.centroid(),
+                        e.radiosity.0
                     ));
                 }
             }
@@ -501,7 +502,10 @@ fn mutated_gltf_fields_are_refused_or_solved_never_a_panic() {
 
 fn limit_message(e: Error) -> String {
     let text = e.to_string();
-    assert!(matches!(e, Error::Limit(_)), "not a limit error: {text}");
+    assert!(
+        matches!(e, Error::Limit { .. }),
+        "not a limit error: {text}"
+    );
     assert!(text.contains("limit") || text.contains("budget"), "{text}");
     text
 }

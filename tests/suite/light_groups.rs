@@ -8,9 +8,9 @@ use radiosity::light_groups::{
     solve_with_light_groups, GroupPattern, GroupRule, LightGroups, GROUP_TOLERANCE,
 };
 use radiosity::math::Rgb;
+use radiosity::pipeline::{SolverKind, SolverSettings};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Light, Scene, SceneBuilder, Texture, Wrap};
-use radiosity::solve::{SolverKind, SolverSettings};
 use radiosity::{Error, Settings, Solution};
 use std::f64::consts::PI;
 use std::sync::Arc;

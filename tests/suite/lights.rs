@@ -4,10 +4,10 @@
 
 use glam::DVec3;
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::reference::{Reference, ReferenceSettings};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Light, Scene, SceneBuilder};
-use radiosity::solve::SolverKind;
 use radiosity::{Settings, Solution};
 use std::f64::consts::PI;
 
@@ -95,9 +95,9 @@ fn a_point_light_over_a_floor_gives_the_exact_element_means() {
         );
         let mut worst: f64 = 0.0;
         for leaf in sol.leaves() {
-            let [a, b, c, d] = element_square(leaf.centroid, leaf.area);
+            let [a, b, c, d] = element_square(leaf.centroid(), leaf.area());
             let omega = solid_angle(light, a, b, c) + solid_angle(light, a, c, d);
-            let exact = rho * intensity * omega / leaf.area;
+            let exact = rho * intensity * omega / leaf.area();
             worst = worst.max((leaf.radiosity[0] / exact - 1.0).abs());
         }
         eprintln!("{kind:?}: point light over a floor, worst element error {worst:e}");
@@ -109,7 +109,7 @@ fn a_point_light_over_a_floor_gives_the_exact_element_means() {
             .into_iter()
             .min_by(|a, b| {
                 let d =
-                    |l: &radiosity::solution::Leaf<'_>| (l.centroid - v(0.7, 0.0, 1.1)).length();
+                    |l: &radiosity::solution::Leaf<'_>| (l.centroid() - v(0.7, 0.0, 1.1)).length();
                 d(a).total_cmp(&d(b))
             })
             .unwrap();
@@ -120,7 +120,7 @@ fn a_point_light_over_a_floor_gives_the_exact_element_means() {
         let total: f64 = sol
             .leaves()
             .iter()
-            .map(|l| l.radiosity[0] / rho * l.area)
+            .map(|l| l.radiosity[0] / rho * l.area())
             .sum();
         assert!((incident / total - 1.0).abs() < 1e-9);
     }
@@ -131,9 +131,9 @@ fn at(sol: &Solution, p: DVec3) -> f64 {
     sol.leaves()
         .into_iter()
         .min_by(|a, b| {
-            (a.centroid - p)
+            (a.centroid() - p)
                 .length()
-                .total_cmp(&(b.centroid - p).length())
+                .total_cmp(&(b.centroid() - p).length())
         })
         .unwrap()
         .radiosity[0]
@@ -227,7 +227,7 @@ fn a_sun_lights_the_floor_through_an_opening_exactly() {
     let (mut inside, mut outside) = (0, 0);
     let half = 1.0 / 64.0;
     for leaf in sol.leaves() {
-        let c = leaf.centroid;
+        let c = leaf.centroid();
         if c.y > 0.5 {
             continue;
         }
@@ -279,13 +279,13 @@ fn an_occluder_casts_a_hard_shadow_and_refinement_follows_its_edge() {
     let floor: Vec<_> = sol
         .leaves()
         .into_iter()
-        .filter(|l| l.centroid.y < 0.25)
+        .filter(|l| l.centroid().y < 0.25)
         .collect();
     let (mut shadowed, mut lit) = (0, 0);
     for leaf in &floor {
-        let [a, b, c, d] = element_square(leaf.centroid, leaf.area);
-        let half = leaf.area.sqrt() / 2.0;
-        let (x, z) = (leaf.centroid.x, leaf.centroid.z);
+        let [a, b, c, d] = element_square(leaf.centroid(), leaf.area());
+        let half = leaf.area().sqrt() / 2.0;
+        let (x, z) = (leaf.centroid().x, leaf.centroid().z);
         let inside =
             (0.8 + half..=1.2 - half).contains(&x) && (0.8 + half..=1.2 - half).contains(&z);
         let outside = x + half <= 0.8 || x - half >= 1.2 || z + half <= 0.8 || z - half >= 1.2;
@@ -295,7 +295,7 @@ fn an_occluder_casts_a_hard_shadow_and_refinement_follows_its_edge() {
         } else if outside {
             lit += 1;
             let omega = solid_angle(light, a, b, c) + solid_angle(light, a, c, d);
-            let exact = rho * intensity * omega / leaf.area;
+            let exact = rho * intensity * omega / leaf.area();
             let rel = (leaf.radiosity[0] / exact - 1.0).abs();
             // Large elements far out carry their quadrature error.
             assert!(rel < 2e-3, "{x} {z}: {} vs {exact}", leaf.radiosity[0]);
@@ -304,19 +304,19 @@ fn an_occluder_casts_a_hard_shadow_and_refinement_follows_its_edge() {
     assert!(shadowed > 0 && lit > 0);
     // The elements on the shadow's edge are the smallest on the floor.
     let on_edge = |l: &&radiosity::solution::Leaf<'_>| {
-        let half = l.area.sqrt() / 2.0;
-        [l.centroid.x, l.centroid.z]
+        let half = l.area().sqrt() / 2.0;
+        [l.centroid().x, l.centroid().z]
             .iter()
             .any(|c| (c - 0.8).abs() < half || (c - 1.2).abs() < half)
-            && (0.8 - half..=1.2 + half).contains(&l.centroid.x)
-            && (0.8 - half..=1.2 + half).contains(&l.centroid.z)
+            && (0.8 - half..=1.2 + half).contains(&l.centroid().x)
+            && (0.8 - half..=1.2 + half).contains(&l.centroid().z)
     };
     let edge_area = floor
         .iter()
         .filter(on_edge)
-        .map(|l| l.area)
+        .map(|l| l.area())
         .fold(0.0, f64::max);
-    let largest = floor.iter().map(|l| l.area).fold(0.0, f64::max);
+    let largest = floor.iter().map(|l| l.area()).fold(0.0, f64::max);
     assert!(
         edge_area * 16.0 <= largest,
         "edge elements {edge_area} m^2, largest {largest} m^2"

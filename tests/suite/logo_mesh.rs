@@ -282,15 +282,15 @@ fn views(scene: &Scene, sol: &Solution) -> Vec<(f64, f64, f64)> {
         .mesh()
         .patches()
         .iter()
-        .map(|p| object_of(p.surface))
+        .map(|p| object_of(p.surface()))
         .collect();
     let mut out = vec![(0.0, 0.0, 0.0); scene.objects.len()];
     for leaf in sol.leaves() {
-        let o = &mut out[object_of(leaf.surface)];
-        o.0 += leaf.area;
-        o.2 += leaf.area * leaf.row_sum();
+        let o = &mut out[object_of(leaf.surface())];
+        o.0 += leaf.area();
+        o.2 += leaf.area() * leaf.row_sum();
         for &(q, f) in leaf.entries() {
-            out[patch_object[q as usize]].1 += leaf.area * f64::from(f);
+            out[patch_object[q as usize]].1 += leaf.area() * f64::from(f);
         }
     }
     out.iter()

@@ -3,9 +3,9 @@
 //! refines until the rows it measures would not, and says so.
 
 use crate::stress_scenes::lit_room_with_box;
+use radiosity::pipeline::SolverKind;
 use radiosity::refine::RefineSettings;
-use radiosity::solve::SolverKind;
-use radiosity::{Error, Settings};
+use radiosity::{Error, LimitKind, Settings};
 
 fn settings(max_memory: u64, kind: SolverKind) -> Settings {
     Settings {
@@ -41,7 +41,16 @@ fn a_scene_that_cannot_fit_is_refused_before_any_form_factor() {
         })
         .unwrap_err();
         let text = e.to_string();
-        assert!(matches!(e, Error::Limit(_)), "{text}");
+        assert!(
+            matches!(
+                e,
+                Error::Limit {
+                    limit: LimitKind::Memory,
+                    ..
+                }
+            ),
+            "{text}"
+        );
         // The library names the setting, never the CLI's flag.
         assert!(text.contains("`max_memory`"), "{text}");
         assert!(!text.contains("--"), "{text}");

@@ -96,7 +96,7 @@ pub fn measure_scene(spec: &PenumbraSpec, scene: &Scene, settings: &Settings) ->
     let floor_leaves: Vec<ElementKey> = leaves
         .iter()
         .copied()
-        .filter(|k| mesh.surfaces()[mesh[*k].surface as usize].object == floor_object)
+        .filter(|k| mesh.surfaces()[mesh[*k].surface() as usize].object == floor_object)
         .collect();
     // The exact means are independent quadratures: spread them over the cores
     // (the result is collected in order, so sums below do not depend on it).
@@ -104,15 +104,15 @@ pub fn measure_scene(spec: &PenumbraSpec, scene: &Scene, settings: &Settings) ->
         .par_iter()
         .map(|&key| {
             let e = &mesh[key];
-            let polygon = mesh.surfaces()[e.surface as usize]
-                .polygon(&e.cell)
+            let polygon = mesh.surfaces()[e.surface() as usize]
+                .polygon(&e.cell())
                 .to_vec();
             let exact = spec.exact_element_mean(&polygon).unwrap()[0];
-            let exact_at_centroid = spec.exact_radiosity(e.centroid).unwrap()[0];
+            let exact_at_centroid = spec.exact_radiosity(e.centroid()).unwrap()[0];
             FloorElement {
                 key,
                 polygon,
-                area: e.area,
+                area: e.area(),
                 solved: solution.radiosity().element(key)[0],
                 exact,
                 exact_at_centroid,

@@ -83,12 +83,12 @@ fn floor_leaves(scene: &Scene, sol: &Solution) -> Vec<Leaf> {
         .into_iter()
         .filter_map(|k| {
             let e = &sol.mesh()[k];
-            let lattice = &sol.mesh().surfaces()[e.surface as usize];
+            let lattice = &sol.mesh().surfaces()[e.surface() as usize];
             let leaf = sol.leaf(k);
             (lattice.object == floor).then(|| Leaf {
-                surface: e.surface,
-                corners: lattice.polygon(&e.cell).to_vec(),
-                area: e.area * leaf.visible().max(HIDDEN_WEIGHT),
+                surface: e.surface(),
+                corners: lattice.polygon(&e.cell()).to_vec(),
+                area: e.area() * leaf.visible().max(HIDDEN_WEIGHT),
                 value: leaf.visible_radiosity(),
             })
         })

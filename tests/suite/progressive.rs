@@ -8,9 +8,9 @@ use radiosity::analytic::{furnace_radiosity, unit_cube_ceiling_lit};
 use radiosity::formfactor::FormFactorMethod;
 use radiosity::math::Rgb;
 use radiosity::pipeline::{solve_with_previews, Progress, Stage};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::refine::RefineSettings;
-use radiosity::solve::progressive::StopReason;
-use radiosity::solve::{ProgressiveSettings, SolverKind};
+use radiosity::solution::StopReason;
 use radiosity::{scenes, Settings, Solution};
 use std::sync::Mutex;
 use std::time::Duration;
@@ -64,7 +64,7 @@ fn gathered_and_shot(
     (gathered, shot)
 }
 
-fn stats(sol: &Solution) -> &radiosity::solve::progressive::ProgressiveStats {
+fn stats(sol: &Solution) -> &radiosity::solution::ProgressiveStats {
     sol.stats()
         .progressive
         .as_ref()
@@ -98,8 +98,8 @@ fn furnace_converges_to_e_over_one_minus_rho() {
         };
         let (mut sum, mut area) = (0.0, 0.0);
         for e in sol.leaves() {
-            sum += e.radiosity[0] * e.area;
-            area += e.area;
+            sum += e.radiosity[0] * e.area();
+            area += e.area();
             for band in 0..3 {
                 assert!(
                     rel(e.radiosity[band], exact) < tolerance,
@@ -189,9 +189,9 @@ fn agrees_per_surface(
     for (i, patch) in shot.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
         for k in shot.mesh().patch_leaves(i as u32) {
-            sum += shot.radiosity().element(k) * shot.mesh()[k].area;
+            sum += shot.radiosity().element(k) * shot.mesh()[k].area();
         }
-        let mean = sum / patch.area;
+        let mean = sum / patch.area();
         assert!((mean - shot.patch_radiosity()[i]).abs().max_band() <= 1e-9 * mean.max_band());
     }
 }
@@ -672,7 +672,7 @@ fn with_gathered_rows_it_converges_to_the_gauss_seidel_solution_itself() {
         assert!(
             d < 1e-6 * brightest,
             "{:?}: {:?} vs {:?}",
-            g.cell,
+            g.cell(),
             p.radiosity,
             g.radiosity
         );

@@ -9,9 +9,9 @@ use super::stress_scenes::{
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 use radiosity::math::Rgb;
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder};
-use radiosity::solve::{ProgressiveSettings, SolverKind};
 use radiosity::{Settings, Solution};
 
 /// One floating box: its cell of a 2 x 2 grid on the floor (so boxes never
@@ -140,7 +140,7 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     let mut worst_row: f64 = 0.0;
     for e in leaves(&sol) {
         // A black receiver gets no row: it reflects nothing of what it sees.
-        if sol.mesh().surfaces()[e.surface as usize]
+        if sol.mesh().surfaces()[e.surface() as usize]
             .reflectance
             .max_band()
             == 0.0
@@ -177,10 +177,10 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     for (i, p) in sol.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
         for k in sol.mesh().patch_leaves(i as u32) {
-            sum += sol.radiosity().element(k) * sol.mesh()[k].area;
+            sum += sol.radiosity().element(k) * sol.mesh()[k].area();
         }
         for band in 0..3 {
-            let mean = sum[band] / p.area;
+            let mean = sum[band] / p.area();
             prop_assert!(
                 (mean - sol.patch_radiosity()[i][band]).abs() <= 1e-5 * brightest,
                 "patch {}: elements {} patch {}",

@@ -238,7 +238,7 @@ fn on_a_trapezoid_the_reference_reads_the_texel_the_solvers_element_has() {
         .iter()
         .map(|l| {
             reference
-                .locate(l.centroid, DVec3::Y)
+                .locate(l.centroid(), DVec3::Y)
                 .expect("on the floor")
         })
         .collect();
@@ -246,11 +246,11 @@ fn on_a_trapezoid_the_reference_reads_the_texel_the_solvers_element_has() {
     let estimates = reference.radiosity_at(&points, &settings(2)).unwrap();
     let mut near_edge = 0;
     for ((leaf, p), e) in leaves.iter().zip(&points).zip(&estimates) {
-        let rho = leaf.reflectance.0[0];
+        let rho = leaf.reflectance().0[0];
         assert!(
             rho == f64::from(DARK) || rho == f64::from(BRIGHT),
             "the solver's element at {} straddles a check ({rho})",
-            leaf.centroid
+            leaf.centroid()
         );
         let span = LIGHT - p.position;
         let direct = INTENSITY * span.y / span.length().powi(3);
@@ -258,9 +258,9 @@ fn on_a_trapezoid_the_reference_reads_the_texel_the_solvers_element_has() {
         assert!(
             (seen - rho).abs() < 1e-5,
             "at {}: reference reflectance {seen}, solver's element {rho}",
-            leaf.centroid
+            leaf.centroid()
         );
-        near_edge += usize::from((leaf.centroid.x - 1.0).abs() < 0.2);
+        near_edge += usize::from((leaf.centroid().x - 1.0).abs() < 0.2);
     }
     assert!(near_edge >= 8, "{near_edge}");
 }

@@ -2,7 +2,7 @@
 //! room at a millimetre or ten kilometres across must give the same numbers.
 
 use super::stress_scenes::{assert_finite_non_negative, leaves, lit_room_with_box, quick_settings};
-use radiosity::solve::{ProgressiveSettings, SolverKind};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind};
 use radiosity::Settings;
 
 #[test]
@@ -45,7 +45,11 @@ fn same_at_every_scale(solver_kind: SolverKind) {
         assert_eq!(a.len(), b.len(), "scale {scale}: a different mesh");
         let mut worst: f64 = 0.0;
         for (x, y) in a.iter().zip(&b) {
-            assert_eq!(x.cell, y.cell, "scale {scale}: elements in another order");
+            assert_eq!(
+                x.cell(),
+                y.cell(),
+                "scale {scale}: elements in another order"
+            );
             for band in 0..3 {
                 let (p, q) = (x.radiosity[band], y.radiosity[band]);
                 // Relative to the element's own value; elements in deep

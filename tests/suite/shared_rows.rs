@@ -215,8 +215,8 @@ fn single_leaf_values(sol: &Solution) -> Vec<Option<f64>> {
     let mut value = vec![0.0; mesh.surfaces().len()];
     for (k, e) in mesh.elements() {
         if e.is_leaf() {
-            count[e.surface as usize] += 1;
-            value[e.surface as usize] = sol.radiosity().element(k)[2];
+            count[e.surface() as usize] += 1;
+            value[e.surface() as usize] = sol.radiosity().element(k)[2];
         }
     }
     count

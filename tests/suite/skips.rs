@@ -124,13 +124,13 @@ fn black_receivers_get_no_rows_and_change_no_radiosity() {
     let mut black_leaves = 0u64;
     for k in skipped.mesh().leaves() {
         let (e, f) = (skipped.leaf(k), full.leaf(k));
-        if black.contains(&e.surface) {
+        if black.contains(&e.surface()) {
             black_leaves += 1;
             assert_eq!(*e.row, RowState::Skipped, "a black leaf has a row");
             assert_eq!(e.radiosity, Rgb::ZERO);
         } else {
             assert!(
-                !light.contains(&e.surface) || !e.entries().is_empty(),
+                !light.contains(&e.surface()) || !e.entries().is_empty(),
                 "the light lost its rows"
             );
             assert_eq!(e.row, f.row, "a leaf's row changed");
@@ -178,10 +178,10 @@ fn a_black_emitter_facing_a_black_wall_keeps_its_rows_and_the_box_balances() {
     let mut wall_leaves = 0;
     for k in skipped.mesh().leaves() {
         let e = skipped.leaf(k);
-        if ceiling.contains(&e.surface) {
+        if ceiling.contains(&e.surface()) {
             assert!(!e.entries().is_empty(), "the black emitter lost its rows");
         }
-        if wall.contains(&e.surface) {
+        if wall.contains(&e.surface()) {
             assert_eq!(*e.row, RowState::Skipped, "the black wall kept its rows");
             wall_leaves += 1;
         }
@@ -510,7 +510,7 @@ fn leaf_cells(sol: &Solution) -> HashSet<(u32, Cell)> {
         .into_iter()
         .map(|k| {
             let e = &sol.mesh()[k];
-            (e.surface, e.cell)
+            (e.surface(), e.cell())
         })
         .collect()
 }

@@ -4,10 +4,10 @@
 use glam::DVec3;
 use radiosity::analytic::parallel_rectangles;
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::reference::{Reference, ReferenceSettings};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{sun, Scene, SceneBuilder, Sky, SkyModel, Surface};
-use radiosity::solve::SolverKind;
 use radiosity::Settings;
 use std::f64::consts::PI;
 

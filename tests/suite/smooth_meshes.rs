@@ -104,14 +104,14 @@ fn seen_fraction(scene: &Scene, sol: &Solution, object: &str) -> f64 {
     let of_object: Vec<bool> = mesh
         .patches()
         .iter()
-        .map(|p| scene.surfaces[p.surface as usize].object == id)
+        .map(|p| scene.surfaces[p.surface() as usize].object == id)
         .collect();
     let mut seen = 0.0;
     for leaf in sol.leaves() {
         if let RowState::Computed(row) = leaf.row {
             for &(q, f) in row.entries() {
                 if of_object[q as usize] {
-                    seen += leaf.area * f64::from(f);
+                    seen += leaf.area() * f64::from(f);
                 }
             }
         }
@@ -121,7 +121,7 @@ fn seen_fraction(scene: &Scene, sol: &Solution, object: &str) -> f64 {
         .iter()
         .zip(&of_object)
         .filter(|(_, o)| **o)
-        .map(|(p, _)| p.area)
+        .map(|(p, _)| p.area())
         .sum();
     seen / area
 }

@@ -169,7 +169,7 @@ fn more_shaped_gathers_than_the_limit_are_refused_naming_the_setting() {
 fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
     let progressive = Settings {
         shaped_gathers: Some(2),
-        solver_kind: radiosity::solve::SolverKind::Progressive,
+        solver_kind: radiosity::pipeline::SolverKind::Progressive,
         ..Settings::default()
     };
     let message = progressive.validate().unwrap_err().to_string();
@@ -198,7 +198,7 @@ fn part_views_asked_for_without_a_shaped_gather_are_refused() {
         },
         Settings {
             part_views: Some(true),
-            solver_kind: radiosity::solve::SolverKind::Progressive,
+            solver_kind: radiosity::pipeline::SolverKind::Progressive,
             ..Settings::default()
         },
         Settings {

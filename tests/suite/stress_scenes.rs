@@ -167,7 +167,7 @@ pub fn assert_finite_non_negative(sol: &Solution, what: &str) {
         assert!(
             e.radiosity.is_finite() && e.radiosity.min_band() >= 0.0,
             "{what}: element at {} has radiosity {:?}",
-            e.centroid,
+            e.centroid(),
             e.radiosity.0
         );
     }

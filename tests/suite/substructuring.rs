@@ -41,9 +41,9 @@ fn patch_radiosity_is_the_area_mean_of_its_elements() {
         for (i, p) in sol.mesh().patches().iter().enumerate() {
             let mut sum = Rgb::ZERO;
             for k in sol.mesh().patch_leaves(i as u32) {
-                sum += sol.radiosity().element(k) * sol.mesh()[k].area;
+                sum += sol.radiosity().element(k) * sol.mesh()[k].area();
             }
-            let mean = sum / p.area;
+            let mean = sum / p.area();
             let b = sol.patch_radiosity()[i];
             for band in 0..3 {
                 assert!(

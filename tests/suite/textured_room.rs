@@ -4,9 +4,9 @@
 
 use glam::{DVec2, DVec3};
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::reference::{Reference, ReferenceSettings};
 use radiosity::scene::{Light, Scene, SceneBuilder, Texture};
-use radiosity::solve::SolverKind;
 use radiosity::Settings;
 use std::sync::Arc;
 

@@ -4,9 +4,9 @@
 use glam::{DVec2, DVec3};
 use radiosity::gltf_io::{load_scene, ImportLimits};
 use radiosity::math::Rgb;
+use radiosity::pipeline::SolverKind;
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Scene, SceneBuilder, Texture};
-use radiosity::solve::SolverKind;
 use radiosity::{Settings, Solution};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -85,10 +85,10 @@ fn elements_inside_a_square_take_its_texel_and_straddling_ones_the_mean() {
         &uniform(0.5, 2, SolverKind::GaussSeidel),
     );
     let mut floor = 0;
-    for leaf in sol.leaves().iter().filter(|l| l.surface == 0) {
-        let c = leaf.centroid;
+    for leaf in sol.leaves().iter().filter(|l| l.surface() == 0) {
+        let c = leaf.centroid();
         let want = if bright_at(c.x, c.z) { BRIGHT } else { DARK };
-        assert_eq!(leaf.reflectance, Rgb::splat(f64::from(want)), "at {c}");
+        assert_eq!(leaf.reflectance(), Rgb::splat(f64::from(want)), "at {c}");
         floor += 1;
     }
     assert_eq!(floor, 256);
@@ -98,10 +98,10 @@ fn elements_inside_a_square_take_its_texel_and_straddling_ones_the_mean() {
         &checkered_floor(true),
         &uniform(2.0 / 3.0, 0, SolverKind::GaussSeidel),
     );
-    for leaf in sol.leaves().iter().filter(|l| l.surface == 0) {
-        let c = leaf.centroid;
+    for leaf in sol.leaves().iter().filter(|l| l.surface() == 0) {
+        let c = leaf.centroid();
         let straddles = (c.x - 1.0).abs() < 0.1 || (c.z - 1.0).abs() < 0.1;
-        let rho = leaf.reflectance.0[0];
+        let rho = leaf.reflectance().0[0];
         if straddles {
             let mean = f64::from(DARK + BRIGHT) / 2.0;
             assert!((rho - mean).abs() < 1e-7, "{rho} at {c}");
@@ -115,9 +115,9 @@ fn elements_inside_a_square_take_its_texel_and_straddling_ones_the_mean() {
 /// Area-weighted mean radiosity (first band) of the floor's leaves.
 fn floor_mean(sol: &Solution) -> f64 {
     let (mut sum, mut area) = (0.0, 0.0);
-    for leaf in sol.leaves().iter().filter(|l| l.surface == 0) {
-        sum += leaf.radiosity.0[0] * leaf.area;
-        area += leaf.area;
+    for leaf in sol.leaves().iter().filter(|l| l.surface() == 0) {
+        sum += leaf.radiosity.0[0] * leaf.area();
+        area += leaf.area();
     }
     sum / area
 }
@@ -134,16 +134,16 @@ fn the_checker_keeps_the_floors_light_and_bright_squares_are_four_times_the_dark
         // An element and its mirror image across x = 1 get the same light
         // from the centred lamp; one is bright, the other dark.
         let leaves = textured.leaves();
-        let floor: Vec<_> = leaves.iter().filter(|l| l.surface == 0).collect();
+        let floor: Vec<_> = leaves.iter().filter(|l| l.surface() == 0).collect();
         let mut worst: f64 = 0.0;
         for a in floor
             .iter()
-            .filter(|l| bright_at(l.centroid.x, l.centroid.z))
+            .filter(|l| bright_at(l.centroid().x, l.centroid().z))
         {
-            let mirror = v(2.0 - a.centroid.x, 0.0, a.centroid.z);
+            let mirror = v(2.0 - a.centroid().x, 0.0, a.centroid().z);
             let b = floor
                 .iter()
-                .find(|l| (l.centroid - mirror).length() < 1e-6)
+                .find(|l| (l.centroid() - mirror).length() < 1e-6)
                 .expect("mirror element");
             let ratio = a.radiosity.0[0] / b.radiosity.0[0];
             worst = worst.max((ratio / 4.0 - 1.0).abs());
@@ -237,8 +237,8 @@ fn floor_reflectances(path: &Path) -> Vec<(DVec3, f64)> {
         .collect();
     sol.leaves()
         .iter()
-        .filter(|l| floor.contains(&l.surface))
-        .map(|l| (l.centroid, l.reflectance.0[0]))
+        .filter(|l| floor.contains(&l.surface()))
+        .map(|l| (l.centroid(), l.reflectance().0[0]))
         .collect()
 }
 

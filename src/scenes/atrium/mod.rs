@@ -58,7 +58,7 @@ mod sink;
 mod size;
 mod trig;
 
-pub use size::{AtriumSize, BALUSTERS_FROM, MAX_BAYS, MAX_DENSITY, MIN_BAYS, MIN_DENSITY};
+pub use size::{AtriumSize, MAX_BAYS, MAX_DENSITY, MIN_BAYS, MIN_DENSITY};
 
 use crate::error::Result;
 use crate::scene::{Scene, SceneBuilder};
@@ -110,10 +110,13 @@ pub const MAX_BUILT_TRIANGLES: usize = 10 * MAX_TRIANGLES;
 pub fn atrium_sized(size: &AtriumSize) -> Result<Scene> {
     let triangles = size.triangles()?;
     if triangles > MAX_BUILT_TRIANGLES {
-        return Err(crate::Error::Limit(format!(
-            "an atrium of {size:?} would have {triangles} triangles, more than \
+        return Err(crate::Error::limit(
+            crate::error::LimitKind::Triangles,
+            format!(
+                "an atrium of {size:?} would have {triangles} triangles, more than \
              {MAX_BUILT_TRIANGLES}; lower the density or the bays"
-        )));
+            ),
+        ));
     }
     let mut builder = SceneBuilder::new("atrium");
     generator::generate(&mut builder, *size)?;

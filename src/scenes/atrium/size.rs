@@ -19,7 +19,7 @@ pub const MAX_DENSITY: f64 = 100.0;
 pub(super) const BAYS_AT_MIN: u32 = 5;
 /// From this target up the balustrades have turned balusters; below it they
 /// are solid parapets (a few hundred balusters would not fit the budget).
-pub const BALUSTERS_FROM: usize = 60_000;
+pub(crate) const BALUSTERS_FROM: usize = 60_000;
 
 /// The layout and tessellation of an atrium. [`AtriumSize::for_target`]
 /// derives one from a triangle count; [`atrium_sized`](super::atrium_sized)

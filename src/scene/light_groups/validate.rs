@@ -1,7 +1,7 @@
 //! Checking that light groups partition a scene's sources.
 
+use super::spec::LightGroups;
 use super::spec::{describe, sources, Source};
-use super::LightGroups;
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 

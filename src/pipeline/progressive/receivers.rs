@@ -120,9 +120,9 @@ impl Receivers {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pipeline::SolverKind;
     use crate::refine::RefineSettings;
     use crate::scenes;
-    use crate::solve::SolverKind;
     use crate::Settings;
 
     #[test]

@@ -15,7 +15,7 @@ pub(crate) struct SavedEmission {
 
 /// Keeps the emission of the surfaces whose entry in `surface_group` is
 /// `keep`, each multiplied by `scale` (a power of two, see
-/// [`super::solve`]), and sets every other emission of `mesh` to 0: the
+/// `crate::light_groups`), and sets every other emission of `mesh` to 0: the
 /// surfaces' (and their emissive textures' scale) and their elements'.
 /// `keep` of `None` keeps every surface that emits for no group, i.e. none.
 pub(crate) fn mask(

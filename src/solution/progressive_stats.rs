@@ -1,6 +1,5 @@
 //! Figures of a progressive solve, part of the stats JSON.
 
-use super::StopReason;
 use crate::math::Rgb;
 use serde::Serialize;
 
@@ -102,4 +101,17 @@ pub struct ProgressiveStats {
     /// Unshot fraction over time: the first shot, then each time the fraction
     /// has fallen by a further factor of ten to the quarter, and the last shot.
     pub history: Vec<HistoryPoint>,
+}
+
+/// Why a progressive solve stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// The unshot fraction reached the tolerance (or nothing emits).
+    #[default]
+    Converged,
+    /// The shot limit was reached.
+    ShotLimit,
+    /// The time budget ran out.
+    TimeBudget,
 }

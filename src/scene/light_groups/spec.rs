@@ -264,7 +264,7 @@ impl LightGroups {
     /// Per scene surface, the group whose light it emits (`None` for a
     /// surface that emits nothing).
     #[must_use]
-    pub fn surface_groups(&self, scene: &Scene) -> Vec<Option<u32>> {
+    pub(crate) fn surface_groups(&self, scene: &Scene) -> Vec<Option<u32>> {
         let mut out = vec![None; scene.surfaces.len()];
         for (g, group) in self.groups.iter().enumerate() {
             for &s in &group.surfaces {

@@ -51,7 +51,7 @@ use std::sync::Arc;
 
 /// How many times a shooter cell may be split further when its eye is shut
 /// in.
-pub const MAX_SHOOTER_SPLITS: u8 = 3;
+pub(crate) const MAX_SHOOTER_SPLITS: u8 = 3;
 
 /// A cell's eye counts as shut in when back faces fill more than this part of
 /// its view (by form factor).

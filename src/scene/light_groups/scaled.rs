@@ -1,7 +1,7 @@
 //! A scene with its light groups' emission scaled: what a mix of the
 //! groups stands for, to solve anew and compare.
 
-use super::LightGroups;
+use super::spec::LightGroups;
 use crate::error::{Error, Result};
 use crate::math::Rgb;
 use crate::scene::Scene;

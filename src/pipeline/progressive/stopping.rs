@@ -1,21 +1,8 @@
 //! When a progressive solve stops.
 
 use super::ProgressiveSettings;
-use serde::Serialize;
+use crate::solution::StopReason;
 use std::time::Instant;
-
-/// Why a progressive solve stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum StopReason {
-    /// The unshot fraction reached the tolerance (or nothing emits).
-    #[default]
-    Converged,
-    /// The shot limit was reached.
-    ShotLimit,
-    /// The time budget ran out.
-    TimeBudget,
-}
 
 /// The stopping rules of one solve, with the time it started.
 #[derive(Clone, Debug)]

@@ -76,7 +76,7 @@ pub struct ProgressiveSettings {
 }
 
 /// The deepest shooter cells allowed (`4^4 = 256` hemi-cubes per shot).
-pub const MAX_SHOOTER_DEPTH: u8 = 4;
+pub(crate) const MAX_SHOOTER_DEPTH: u8 = 4;
 
 impl Default for ProgressiveSettings {
     fn default() -> Self {
