@@ -22,12 +22,15 @@
 //!   seed's;
 //! - the cluster's bounding box diagonal stays at most the patch size;
 //! - on an emissive texture, only surfaces whose emission is even join, and
-//!   only with neighbours of like emission (see `emission_grid`).
+//!   only with neighbours of like emission (see `emission_grid`);
+//! - members are lit alike before the solve: the same punctual lights in
+//!   view and about the same share of the sky (see `light_signature`).
 //!
 //! Clusters grow breadth first from the lowest-numbered surface not yet in
 //! one, so the result depends on the scene alone.
 
 use super::emission_grid::{emissive_texture, is_even, EVEN_EMISSION};
+use super::light_signature::light_signatures;
 use crate::math::Rgb;
 use crate::scene::{Scene, EMISSION_DEPTH};
 use glam::DVec3;
@@ -64,6 +67,13 @@ pub(crate) fn face_clusters(scene: &Scene, patch_size: f64) -> Vec<Vec<u32>> {
         })
         .collect();
     let edges = directed_edges(scene, &small);
+    let lit = light_signatures(scene, &small);
+    let lit_alike = |a: usize, b: usize| {
+        lit.as_ref().is_none_or(|lit| match (&lit[a], &lit[b]) {
+            (Some(a), Some(b)) => a.alike(b),
+            _ => true,
+        })
+    };
     let min_cos = MAX_CLUSTER_ANGLE_DEGREES.to_radians().cos();
     let mut taken = vec![false; scene.surfaces.len()];
     let mut clusters = Vec::new();
@@ -96,6 +106,7 @@ pub(crate) fn face_clusters(scene: &Scene, patch_size: f64) -> Vec<Vec<u32>> {
                         || other.object != first.object
                         || other.normal.dot(first.normal) < min_cos
                         || !like_emission(emission[seed], emission[t])
+                        || !lit_alike(seed, t)
                     {
                         continue;
                     }
@@ -243,6 +254,45 @@ mod tests {
             clusters,
             vec![(0..4).collect::<Vec<u32>>(), (5..9).collect()]
         );
+    }
+
+    #[test]
+    fn clusters_do_not_join_facets_in_the_sky_and_under_a_roof() {
+        // A strip of ten 0.1 m quads along x facing up, the last five under
+        // a roof a centimetre above them, under an even sky: at 2 m patches
+        // the strip would be one cluster; lit so differently it is two.
+        let mut b = SceneBuilder::new("porch");
+        let m = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        b.object("strip");
+        let at = |i: usize, z: f64| DVec3::new(0.1 * i as f64, 0.0, z);
+        for i in 0..10 {
+            b.polygon(m, &[at(i, 0.0), at(i, 0.1), at(i + 1, 0.1), at(i + 1, 0.0)])
+                .unwrap();
+        }
+        b.object("roof");
+        let roof = |x: f64, z: f64| DVec3::new(x, 0.01, z);
+        b.polygon(
+            m,
+            &[
+                roof(0.5, -1.0),
+                roof(3.0, -1.0),
+                roof(3.0, 1.0),
+                roof(0.5, 1.0),
+            ],
+        )
+        .unwrap();
+        let mut scene = b.build().unwrap();
+        let split = vec![(0..5).collect::<Vec<u32>>(), (5..10).collect()];
+        // Without a sky nothing tells the facets apart.
+        assert_eq!(
+            face_clusters(&scene, 2.0),
+            vec![(0..10).collect::<Vec<u32>>()]
+        );
+        scene.sky = Some(crate::scene::Sky::with_horizontal_illuminance(
+            crate::scene::SkyModel::Uniform,
+            1000.0,
+        ));
+        assert_eq!(face_clusters(&scene, 2.0), split);
     }
 
     #[test]

@@ -9,6 +9,7 @@ pub mod clusters;
 mod element;
 mod emission_grid;
 mod lattice;
+mod light_signature;
 mod locate;
 mod point_probe;
 mod shading;

@@ -33,6 +33,7 @@ pub use linear_image::LinearImage;
 pub use material::{Material, MAX_CONTRACTION};
 pub(crate) use overlaps::check_coplanar_overlaps;
 pub use overlaps::{Overlaps, COPLANAR_GAP};
+pub(crate) use rooms::Tracer;
 pub use sky::{sun, Sky, SkyModel};
 pub use surface::{Surface, MAX_COORDINATE};
 pub(crate) use texture::uv_transform;
