@@ -351,3 +351,30 @@ fn a_double_sided_floor_cut_by_a_single_sided_decal_books_no_light_on_backs() {
         energy.balance_with_escape
     );
 }
+
+#[test]
+fn the_sky_lit_mesh_gives_the_same_bits_at_one_and_two_threads() {
+    // Its face clusters follow the facets' light, found by rays before the
+    // mesh is built: the rays, and so the patches, must not depend on how
+    // the work is shared out.
+    let scene = loggia();
+    let solve = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let sol = pool.install(|| radiosity::solve(&scene, &Settings::default(), &|_| {}).unwrap());
+        let mut bits: Vec<u64> = sol
+            .patch_radiosity()
+            .iter()
+            .flat_map(|b| b.0.map(f64::to_bits))
+            .collect();
+        for leaf in sol.leaves() {
+            bits.extend(leaf.radiosity.0.map(f64::to_bits));
+        }
+        (sol.mesh().patches().len(), bits)
+    };
+    let (one, two) = (solve(1), solve(2));
+    assert_eq!(one.0, two.0, "different patches at 1 and 2 threads");
+    assert!(one.1 == two.1, "radiosities differ at 1 and 2 threads");
+}
