@@ -56,9 +56,11 @@ pub enum Error {
     #[error("{0}")]
     NoLight(String),
     /// A setting is out of its range.
-    #[error("setting {name}: {message}")]
+    #[error("setting `{name}`: {message}")]
     Setting {
-        /// The setting's name.
+        /// The setting's name as the API spells it: a field of
+        /// [`Settings`](crate::Settings) or of the options or arguments of the
+        /// call that refused it (`patch_size`, `refine.max_depth`).
         name: &'static str,
         /// What is wrong.
         message: String,

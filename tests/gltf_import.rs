@@ -1082,7 +1082,7 @@ fn reflectance_above_the_maximum_is_clamped_with_one_warning_naming_each_materia
             ..LoadOptions::default()
         };
         let e = load_with(&path, &options).unwrap_err();
-        assert!(e.to_string().contains("max-reflectance"), "{e}");
+        assert!(e.to_string().contains("max_reflectance"), "{e}");
     }
     // Negative reflectance is still an error naming the material.
     let mut doc = three_materials();

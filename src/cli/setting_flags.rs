@@ -14,6 +14,19 @@ const FLAG_OF_SETTING: &[(&str, &str)] = &[
     ("double_sided", "--double-sided"),
     ("overlaps", "--overlaps"),
     ("max_reflectance", "--max-reflectance"),
+    ("refine.source_tolerance", "--source-tolerance"),
+    ("refine.tolerance", "--refine-tolerance"),
+    ("refine.dim_floor", "--dim-floor"),
+    ("refine.near_floor", "--near-floor"),
+    ("refine.initial_depth", "--initial-depth"),
+    ("refine.max_depth", "--max-depth"),
+    ("refine.min_element_area", "--min-element-area"),
+    ("progressive.tolerance", "--unshot-tolerance"),
+    ("progressive.max_shots", "--max-shots"),
+    ("progressive.preview_every", "--preview-every"),
+    ("light_groups", "--light-group"),
+    ("tone_map", "--tonemap"),
+    ("false_colour_range", "--false-colour-range"),
 ];
 
 /// The flag that sets library setting `name`, if the CLI has one.

@@ -60,7 +60,7 @@ impl LoadOptions {
         let m = self.max_reflectance;
         if !(m > 0.0 && m <= MAX_CONTRACTION) {
             return Err(Error::Setting {
-                name: "max-reflectance",
+                name: "max_reflectance",
                 message: format!(
                     "must be above 0 and at most {MAX_CONTRACTION} (at 1 a closed scene has no \
                      bounded solution), got {m}"

@@ -44,7 +44,7 @@ use crate::solution::Solution;
 ///
 /// # Errors
 ///
-/// [`Error::Setting`] (named `light-groups`) for the progressive solver,
+/// [`Error::Setting`] (named `light_groups`) for the progressive solver,
 /// whose form factors live in its shots rather than in rows a group could
 /// be gathered with, and when `groups` do not partition the scene's sources
 /// (see [`LightGroups::validate`]); any error of the solve.
@@ -56,7 +56,7 @@ pub fn solve_with_light_groups(
 ) -> Result<Solution> {
     if settings.solver_kind == SolverKind::Progressive {
         return Err(Error::Setting {
-            name: "light-groups",
+            name: "light_groups",
             message: "light groups need the gathering solver (gauss-seidel): the progressive \
                       solver keeps its form factors in its shots, not in rows each group \
                       could be solved with"

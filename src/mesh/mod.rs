@@ -74,7 +74,7 @@ impl Mesh {
     ) -> Result<Self> {
         if !(patch_size.is_finite() && patch_size > 0.0) {
             return Err(Error::Setting {
-                name: "patch-size",
+                name: "patch_size",
                 message: format!("must be a positive length, got {patch_size}"),
             });
         }

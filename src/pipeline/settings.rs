@@ -168,16 +168,19 @@ impl Settings {
         let bad = |name, message: String| Err(Error::Setting { name, message });
         let n = self.hemicube_resolution;
         if !(8..=4096).contains(&n) || !n.is_multiple_of(2) {
-            return bad("hemicube-res", format!("must be even, 8 to 4096, got {n}"));
+            return bad(
+                "hemicube_resolution",
+                format!("must be even, 8 to 4096, got {n}"),
+            );
         }
         if let Some(p) = self.patch_size {
             if !(p.is_finite() && p > 0.0) {
-                return bad("patch-size", format!("must be a positive length, got {p}"));
+                return bad("patch_size", format!("must be a positive length, got {p}"));
             }
         }
         let s = &self.solver;
         if s.max_iterations == 0 {
-            return bad("max-iterations", "must be at least 1".to_string());
+            return bad("solver.max_iterations", "must be at least 1".to_string());
         }
         if !(s.tolerance.is_finite() && s.tolerance > 0.0) {
             return bad(
@@ -187,7 +190,7 @@ impl Settings {
         }
         if self.solver_kind == SolverKind::Progressive && self.refine.source_tolerance.is_some() {
             return bad(
-                "source-tolerance",
+                "refine.source_tolerance",
                 "source-patch splitting applies to the gathering solver (gauss-seidel) only"
                     .to_string(),
             );
@@ -195,19 +198,19 @@ impl Settings {
         let shaped = self.shaped_gathers.unwrap_or(0);
         if shaped > MAX_SHAPED_GATHERS {
             return bad(
-                "shaped-gathers",
+                "shaped_gathers",
                 format!("must be at most {MAX_SHAPED_GATHERS}, got {shaped}"),
             );
         }
         if shaped > 0 && self.solver_kind == SolverKind::Progressive {
             return bad(
-                "shaped-gathers",
+                "shaped_gathers",
                 "shaped gathers apply to the gathering solver (gauss-seidel) only".to_string(),
             );
         }
         if shaped > 0 && self.bounces.is_some() {
             return bad(
-                "shaped-gathers",
+                "shaped_gathers",
                 "shaped gathers refine the full solution; with a fixed number of bounces \
                  every patch is gathered by its mean"
                     .to_string(),
@@ -215,7 +218,7 @@ impl Settings {
         }
         if self.part_views == Some(true) && self.shaped_gather_count() == 0 {
             return bad(
-                "part-views",
+                "part_views",
                 "part views weigh the parts of unevenly lit patches in shaped gathers, and \
                  this solve makes none (the progressive solver, `bounces` or \
                  `shaped_gathers` 0)"
@@ -235,7 +238,7 @@ impl Settings {
             }
         }
         if self.max_memory == 0 {
-            return bad("max-memory", "must be more than 0 bytes".to_string());
+            return bad("max_memory", "must be more than 0 bytes".to_string());
         }
         self.progressive.validate()?;
         self.refine.validate()

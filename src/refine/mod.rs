@@ -114,19 +114,19 @@ impl RefineSettings {
         let bad = |name, message: String| Err(Error::Setting { name, message });
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return bad(
-                "refine-tolerance",
+                "refine.tolerance",
                 format!("must be positive, got {}", self.tolerance),
             );
         }
         if !(self.dim_floor > 0.0 && self.dim_floor <= 1.0) {
             return bad(
-                "dim-floor",
+                "refine.dim_floor",
                 format!("must be in (0, 1], got {}", self.dim_floor),
             );
         }
         if !(self.near_floor > 0.0 && self.near_floor <= 1.0) {
             return bad(
-                "near-floor",
+                "refine.near_floor",
                 format!("must be in (0, 1], got {}", self.near_floor),
             );
         }
@@ -136,9 +136,9 @@ impl RefineSettings {
             .max(self.initial_depth);
         if self.uniform_depth.is_none() && self.initial_depth > self.max_depth {
             return bad(
-                "initial-depth",
+                "refine.initial_depth",
                 format!(
-                    "{} is deeper than the max-depth {}: refinement could never split below \
+                    "{} is deeper than `refine.max_depth`, {}: refinement could never split below \
                      it, and the elements it makes are deeper than allowed",
                     self.initial_depth, self.max_depth
                 ),
@@ -146,13 +146,13 @@ impl RefineSettings {
         }
         if deepest > crate::mesh::MAX_DEPTH {
             return bad(
-                "max-depth",
+                "refine.max_depth",
                 format!("{deepest} exceeds the lattice's {}", crate::mesh::MAX_DEPTH),
             );
         }
         if let Some(a) = self.min_element_area {
             if !(a.is_finite() && a >= 0.0) {
-                return bad("min-element-area", format!("must be >= 0, got {a}"));
+                return bad("refine.min_element_area", format!("must be >= 0, got {a}"));
             }
         }
         Ok(())

@@ -128,7 +128,7 @@ fn format_tick(v: f64) -> String {
 pub fn false_colour(img: &HdrImage, lo: f64, hi: f64, log: bool) -> Result<RgbImage> {
     if !(lo.is_finite() && hi.is_finite() && lo < hi) || (log && lo <= 0.0) {
         return Err(Error::Setting {
-            name: "false-colour range",
+            name: "false_colour_range",
             message: format!(
                 "{lo} to {hi} is not a usable range{}",
                 if log {

@@ -96,7 +96,7 @@ impl FromStr for ToneMap {
             .into_iter()
             .find(|t| t.name().eq_ignore_ascii_case(s.trim()))
             .ok_or_else(|| Error::Setting {
-                name: "tone-map",
+                name: "tone_map",
                 message: format!("unknown tone map '{s}'; choose clamp, reinhard or aces"),
             })
     }

@@ -90,7 +90,7 @@ impl SweepPlan {
                     for &divisor in &self.patch_divisions {
                         if divisor == 0 {
                             return Err(Error::Setting {
-                                name: "patch-divisions",
+                                name: "patch_divisions",
                                 message: "a divisor of the patch size must be at least 1".into(),
                             });
                         }

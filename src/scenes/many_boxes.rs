@@ -58,7 +58,7 @@ pub fn lights_per_side(boxes_per_side: u32) -> u32 {
 pub fn many_boxes_with(n: u32) -> Result<Scene> {
     if n == 0 || n > MAX_BOXES_PER_SIDE {
         return Err(Error::Setting {
-            name: "boxes-per-side",
+            name: "boxes_per_side",
             message: format!("must be 1 to {MAX_BOXES_PER_SIDE}, got {n}"),
         });
     }

@@ -45,14 +45,14 @@ impl ProbeTolerance {
         let d = self.relative_distance;
         if !(d.is_finite() && d >= 0.0) {
             return Err(Error::Setting {
-                name: "plane-tolerance",
+                name: "plane_tolerance",
                 message: format!("must be a finite fraction >= 0, got {d}"),
             });
         }
         let a = self.normal_degrees;
         if !(a.is_finite() && (0.0..90.0).contains(&a)) {
             return Err(Error::Setting {
-                name: "normal-tolerance",
+                name: "normal_tolerance",
                 message: format!("must lie in [0, 90) degrees, got {a}"),
             });
         }

@@ -356,10 +356,10 @@ fn a_near_floor_refines_a_low_seat_s_shadow_in_a_dim_region() {
 /// 1 it would only loosen the tolerance.
 #[test]
 fn a_dim_floor_out_of_range_is_refused_naming_the_setting() {
-    for name in ["dim-floor", "near-floor"] {
+    for name in ["refine.dim_floor", "refine.near_floor"] {
         for bad in [0.0, -0.1, 1.5, f64::NAN] {
             let mut settings = Settings::default();
-            if name == "dim-floor" {
+            if name == "refine.dim_floor" {
                 settings.refine.dim_floor = bad;
             } else {
                 settings.refine.near_floor = bad;

@@ -65,7 +65,7 @@ fn options_are_checked_before_the_scene_is_loaded() {
         (vec!["solve", missing, "--threads", "100000"], "1024"),
         (
             vec!["solve", missing, "--hemicube-res", "7"],
-            "hemicube-res",
+            "--hemicube-res",
         ),
         (
             vec!["solve", missing, "--out", s(&folder_under_file)],

@@ -230,7 +230,7 @@ fn probes_off_every_surface_or_facing_away_read_nothing() {
         ..ProbeTolerance::default()
     };
     let e = sol.probe_with(bad).unwrap_err();
-    assert!(e.to_string().contains("normal-tolerance"), "{e}");
+    assert!(e.to_string().contains("normal_tolerance"), "{e}");
 }
 
 fn work_dir(name: &str) -> PathBuf {

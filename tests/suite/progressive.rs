@@ -406,42 +406,42 @@ fn bad_progressive_settings_are_named() {
     let scene = scenes::cornell_box();
     let cases: [(&str, ProgressiveSettings); 6] = [
         (
-            "unshot-tolerance",
+            "progressive.tolerance",
             ProgressiveSettings {
                 tolerance: 0.0,
                 ..ProgressiveSettings::default()
             },
         ),
         (
-            "max-shots",
+            "progressive.max_shots",
             ProgressiveSettings {
                 max_shots: Some(0),
                 ..ProgressiveSettings::default()
             },
         ),
         (
-            "preview-every",
+            "progressive.preview_every",
             ProgressiveSettings {
                 preview_every: Some(0),
                 ..ProgressiveSettings::default()
             },
         ),
         (
-            "shooter-depth",
+            "progressive.shooter_depth",
             ProgressiveSettings {
                 shooter_depth: 9,
                 ..ProgressiveSettings::default()
             },
         ),
         (
-            "fine-shot-power",
+            "progressive.fine_shot_power",
             ProgressiveSettings {
                 fine_shot_power: -1.0,
                 ..ProgressiveSettings::default()
             },
         ),
         (
-            "refine-factor",
+            "progressive.refine_factor",
             ProgressiveSettings {
                 refine_factor: 1.0,
                 ..ProgressiveSettings::default()
@@ -734,7 +734,7 @@ fn settings_the_progressive_solver_cannot_honour_are_refused_by_name() {
         matches!(
             e,
             radiosity::Error::Setting {
-                name: "source-tolerance",
+                name: "refine.source_tolerance",
                 ..
             }
         ),

@@ -377,7 +377,7 @@ fn options_that_could_only_give_a_black_or_contradictory_solve_are_refused() {
         ),
         (
             &["--initial-depth", "3", "--max-depth", "1"],
-            "initial-depth",
+            "--initial-depth",
         ),
     ];
     for (extra, expected) in cases {

@@ -162,7 +162,7 @@ fn more_shaped_gathers_than_the_limit_are_refused_naming_the_setting() {
         ..Settings::default()
     };
     let message = too_many.validate().unwrap_err().to_string();
-    assert!(message.contains("shaped-gathers"), "{message}");
+    assert!(message.contains("shaped_gathers"), "{message}");
 }
 
 #[test]
@@ -173,14 +173,14 @@ fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
         ..Settings::default()
     };
     let message = progressive.validate().unwrap_err().to_string();
-    assert!(message.contains("shaped-gathers"), "{message}");
+    assert!(message.contains("shaped_gathers"), "{message}");
     let bounces = Settings {
         shaped_gathers: Some(2),
         bounces: Some(2),
         ..Settings::default()
     };
     let message = bounces.validate().unwrap_err().to_string();
-    assert!(message.contains("shaped-gathers"), "{message}");
+    assert!(message.contains("shaped_gathers"), "{message}");
 }
 
 #[test]
@@ -208,7 +208,7 @@ fn part_views_asked_for_without_a_shaped_gather_are_refused() {
         },
     ] {
         let message = without.validate().unwrap_err().to_string();
-        assert!(message.contains("part-views"), "{message}");
+        assert!(message.contains("part_views"), "{message}");
         // Left to the default, they are simply not drawn where no shaped
         // gather is made.
         let default = Settings {

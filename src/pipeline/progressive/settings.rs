@@ -95,25 +95,28 @@ impl Default for ProgressiveSettings {
 }
 
 impl ProgressiveSettings {
-    /// Checks every setting's range; the error names the setting as the CLI
-    /// spells it.
+    /// Checks every setting's range; the error names the setting by its
+    /// path from [`Settings`](crate::Settings) (`progressive.max_shots`).
     pub fn validate(&self) -> Result<()> {
         let bad = |name, message: String| Err(Error::Setting { name, message });
         if !(self.tolerance.is_finite() && self.tolerance > 0.0 && self.tolerance < 1.0) {
             return bad(
-                "unshot-tolerance",
+                "progressive.tolerance",
                 format!("must lie in (0, 1), got {}", self.tolerance),
             );
         }
         if self.max_shots == Some(0) {
-            return bad("max-shots", "must be at least 1".to_string());
+            return bad("progressive.max_shots", "must be at least 1".to_string());
         }
         if self.preview_every == Some(0) {
-            return bad("preview-every", "must be at least 1".to_string());
+            return bad(
+                "progressive.preview_every",
+                "must be at least 1".to_string(),
+            );
         }
         if self.shooter_depth > MAX_SHOOTER_DEPTH {
             return bad(
-                "shooter-depth",
+                "progressive.shooter_depth",
                 format!(
                     "must be at most {MAX_SHOOTER_DEPTH}, got {}",
                     self.shooter_depth
@@ -122,13 +125,13 @@ impl ProgressiveSettings {
         }
         if !(self.fine_shot_power.is_finite() && (0.0..=1.0).contains(&self.fine_shot_power)) {
             return bad(
-                "fine-shot-power",
+                "progressive.fine_shot_power",
                 format!("must lie in [0, 1], got {}", self.fine_shot_power),
             );
         }
         if !(self.refine_factor > 0.0 && self.refine_factor < 1.0) {
             return bad(
-                "refine-factor",
+                "progressive.refine_factor",
                 format!("must lie in (0, 1), got {}", self.refine_factor),
             );
         }

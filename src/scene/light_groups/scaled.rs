@@ -16,14 +16,14 @@ impl LightGroups {
     ///
     /// # Errors
     ///
-    /// [`Error::Setting`] (named `light-group`) when the groups do not fit
+    /// [`Error::Setting`] (named `light_groups`) when the groups do not fit
     /// `scene` (see [`Self::validate`]), `factors` has the wrong length, or
     /// a factor is negative or not finite.
     pub fn scaled_scene(&self, scene: &Scene, factors: &[Rgb]) -> Result<Scene> {
         self.validate(scene)?;
         if factors.len() != self.groups.len() {
             return Err(Error::Setting {
-                name: "light-group",
+                name: "light_groups",
                 message: format!(
                     "{} factors for {} light groups",
                     factors.len(),
@@ -38,7 +38,7 @@ impl LightGroups {
             .find(|(_, f)| !(f.is_finite() && f.min_band() >= 0.0))
         {
             return Err(Error::Setting {
-                name: "light-group",
+                name: "light_groups",
                 message: format!(
                     "the factor {:?} of the group '{}' is not a finite number of at least 0",
                     f.0, g.name

@@ -63,11 +63,11 @@ impl GroupPattern {
     ///
     /// # Errors
     ///
-    /// [`Error::Setting`] (named `light-group`) for a missing `=`, an empty
+    /// [`Error::Setting`] (named `light_groups`) for a missing `=`, an empty
     /// name or an empty pattern.
     pub fn parse(text: &str) -> Result<Self> {
         let bad = |message: String| Error::Setting {
-            name: "light-group",
+            name: "light_groups",
             message,
         };
         let (name, patterns) = text
@@ -125,14 +125,14 @@ impl LightGroups {
     ///
     /// # Errors
     ///
-    /// [`Error::Setting`] (named `light-group`) when two patterns give the
+    /// [`Error::Setting`] (named `light_groups`) when two patterns give the
     /// same group name, or a pattern group matches no source (a misspelt
     /// name would otherwise go unnoticed).
     pub fn by_rule(scene: &Scene, rule: GroupRule, patterns: &[GroupPattern]) -> Result<Self> {
         for (i, p) in patterns.iter().enumerate() {
             if patterns[..i].iter().any(|q| q.name == p.name) {
                 return Err(Error::Setting {
-                    name: "light-group",
+                    name: "light_groups",
                     message: format!("the group '{}' is given twice", p.name),
                 });
             }
@@ -143,7 +143,7 @@ impl LightGroups {
             .find(|p| !groups.groups.iter().any(|g| g.name == p.name))
         {
             return Err(Error::Setting {
-                name: "light-group",
+                name: "light_groups",
                 message: format!(
                     "no emitting surface or punctual light of scene '{}' has a name containing \
                      {} (the group '{}'); sources: {}",

@@ -12,12 +12,12 @@ impl LightGroups {
     ///
     /// # Errors
     ///
-    /// [`Error::Setting`] (named `light-group`) naming the group and the
+    /// [`Error::Setting`] (named `light_groups`) naming the group and the
     /// surface or light at fault.
     pub fn validate(&self, scene: &Scene) -> Result<()> {
         let bad = |message: String| {
             Err(Error::Setting {
-                name: "light-group",
+                name: "light_groups",
                 message,
             })
         };
