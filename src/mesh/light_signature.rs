@@ -4,15 +4,16 @@
 //! A face cluster is one source of one radiosity in the patch system. Where
 //! its facets are lit differently (one in a shaft of sky light through a
 //! window, its neighbour on the same wall inside), the patch system sees
-//! their mean: surfaces facing the cluster across a corridor gather the mean
-//! and light each other dimly, and the shaped gather, which corrects the
-//! elements afterwards one bounce at a time, cannot bring the light of many
-//! bounces back. Measured on a 20 000-triangle cut of a game level under an
-//! overcast sky (`papers/performance.md`): two facing walls of a corridor
-//! came out at a third and at a half of what they get when every facet is a
-//! patch of its own. So facets join a cluster only where their signatures
-//! agree ([`LightSignature::alike`]): the same punctual lights in view, and
-//! about the same share of the sky.
+//! their mean: surfaces facing the cluster gather the mean, and the shaped
+//! gather, which corrects the elements afterwards one bounce at a time,
+//! cannot bring the light of many bounces back (on a 20 000-triangle cut of
+//! a game level, two facing corridor walls came out at a third and at a half
+//! of what they get with every facet a patch of its own; see
+//! `papers/performance.md`). So facets join a cluster only where their
+//! signatures agree ([`LightSignature::alike`]): the same punctual lights in
+//! view, and about the same share of the sky. That catches differences in
+//! direct light only: the corridor above, whose bright facet is lit by light
+//! reflected from outside, stays as it was.
 //!
 //! Emitting surfaces are not looked at: their light on a facet needs form
 //! factors, which come later; their receivers still split where the light
