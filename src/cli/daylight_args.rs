@@ -25,9 +25,9 @@ impl LoadArgs {
             (Some(l), _) => Sky::with_zenith_luminance(model, l),
             (None, lux) => Sky::with_horizontal_illuminance(model, lux.unwrap_or(DEFAULT_SKY_LUX)),
         };
-        if let Err(e) = sky.validate() {
-            bail!("--sky-luminance / --sky-illuminance: {e}");
-        }
+        // The library's message names the setting (`sky`), which the
+        // error printer turns into the flag.
+        sky.validate()?;
         Ok(Some(sky))
     }
 
@@ -46,9 +46,6 @@ impl LoadArgs {
         let [azimuth, elevation, lux] = values[..] else {
             bail!("--sun: '{text}' is not three numbers AZIMUTH,ELEVATION,LUX");
         };
-        match sun(azimuth, elevation, lux) {
-            Ok(light) => Ok(Some(light)),
-            Err(e) => bail!("--sun: {e}"),
-        }
+        Ok(Some(sun(azimuth, elevation, lux)?))
     }
 }

@@ -27,6 +27,15 @@ const FLAG_OF_SETTING: &[(&str, &str)] = &[
     ("light_groups", "--light-group"),
     ("tone_map", "--tonemap"),
     ("false_colour_range", "--false-colour-range"),
+    ("sky", "--sky"),
+    ("sun", "--sun"),
+    ("regions", "--regions"),
+    ("paths", "--paths"),
+    ("points", "--points"),
+    ("repeats", "--repeats"),
+    ("patch_divisions", "--patch-divisions"),
+    ("plane_tolerance", "--plane-tolerance"),
+    ("normal_tolerance", "--normal-tolerance"),
 ];
 
 /// The flag that sets library setting `name`, if the CLI has one.

@@ -173,6 +173,10 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
     let far = scene.outlier_warning();
     scene.warnings.extend(far);
     options.add_daylight(&mut scene);
+    // A mesh placed by several nodes warns of its faults once per node, in
+    // the same words: each is said once.
+    let mut said = std::collections::HashSet::new();
+    scene.warnings.retain(|w| said.insert(w.clone()));
     Ok(scene)
 }
 

@@ -11,12 +11,13 @@
 //!   is seen through that opening, from outside.
 //! - **Rooms.** Rays from a grid of points find the enclosed spaces whatever
 //!   way their walls face (double-sided walls included), and which of them
-//!   see a light ([`super::rooms`]). The largest lit room at least
-//!   [`ROOM_SIZE`](super::rooms::ROOM_SIZE) across (else the largest room)
-//!   is viewed from inside, across it: of the level views from its most
-//!   open points, each backed up to just short of the wall behind, the one
-//!   whose frame shows the most directly lit surfaces
-//!   ([`super::room_view`]).
+//!   see a light or the sky ([`super::rooms`]). The largest lit room at
+//!   least [`ROOM_SIZE`](super::rooms::ROOM_SIZE) across and of at least
+//!   [`MIN_ROOM_POINTS`](super::rooms::MIN_ROOM_POINTS) grid points (else,
+//!   in a scene with no light at all, the largest such room) is viewed from
+//!   inside, across it: of the level views from its most open points, each
+//!   backed up to just short of the wall behind, the one whose frame shows
+//!   the most directly lit surfaces ([`super::room_view`]).
 //! - **Small enclosures.** Otherwise, the signed solid angle that the framed
 //!   surfaces' fronts subtend at a point, over 4 pi, is the winding number
 //!   of the surface around it: 1 inside a closed box whose walls face
@@ -31,7 +32,7 @@
 //!   emitting parts among them) fits a 45 degree view.
 
 use super::room_view::across_room;
-use super::rooms::{find_rooms, Room, Tracer, ROOM_SIZE, SOURCES};
+use super::rooms::{find_rooms, Room, Tracer, MIN_ROOM_POINTS, ROOM_SIZE, SOURCES};
 use super::{Camera, Scene, Surface};
 use glam::DVec3;
 
@@ -64,20 +65,28 @@ impl Camera {
         }
         let tracer = Tracer::new(scene, &framed, lo, hi);
         let lights = light_points(scene);
-        let rooms = find_rooms(&tracer, lo, hi, &lights);
+        let sky = scene.sky.is_some();
+        let rooms = find_rooms(&tracer, lo, hi, &lights, sky);
         let step = (hi - lo).max_element() / 14.0;
         let roomy = |r: &&Room| {
             let (a, b) = r.bounds();
             let span = b - a + step;
-            span.x.min(span.z) >= ROOM_SIZE && span.y >= ROOM_SIZE
+            r.points.len() >= MIN_ROOM_POINTS
+                && span.x.min(span.z) >= ROOM_SIZE
+                && span.y >= ROOM_SIZE
         };
+        // An unlit room is shown only when nothing in the scene gives light:
+        // where there is light that no room sees, the "rooms" are hollows
+        // inside an object (a voxel figure's cavities) or spaces the light
+        // never reaches, and the object is better seen from outside.
+        let unlit_allowed = lights.is_empty() && !sky;
         let room = rooms
             .iter()
             .filter(roomy)
             .find(|r| r.lit)
-            .or_else(|| rooms.iter().find(roomy));
+            .or_else(|| rooms.iter().filter(|_| unlit_allowed).find(roomy));
         let mut camera = match room {
-            Some(room) => across_room(&tracer, room, &lights),
+            Some(room) => across_room(&tracer, room, &lights, sky),
             None => enclosure
                 .then(|| from_inside(&framed, lo, hi, false))
                 .flatten()
@@ -388,5 +397,143 @@ mod tests {
         assert!(camera.position.z > 1.0);
         let to_centre = (v(0.0, 1.0, 0.0) - camera.position).normalize();
         assert!(camera.forward.dot(to_centre) > 0.999_999);
+    }
+
+    /// The walls, floor and ceiling of a room `lo..hi`, facing inwards, as
+    /// its own object; the ceiling leaves out the rectangle `hole` (x and z
+    /// ranges) when given.
+    fn inward_box(b: &mut SceneBuilder, m: u32, lo: DVec3, hi: DVec3, hole: Option<[f64; 4]>) {
+        let (a, c) = (lo, hi);
+        b.object("room");
+        b.quad(
+            m,
+            v(a.x, a.y, a.z),
+            v(a.x, a.y, c.z),
+            v(c.x, a.y, c.z),
+            v(c.x, a.y, a.z),
+        )
+        .unwrap(); // floor, up
+        b.quad(
+            m,
+            v(a.x, a.y, a.z),
+            v(c.x, a.y, a.z),
+            v(c.x, c.y, a.z),
+            v(a.x, c.y, a.z),
+        )
+        .unwrap(); // facing +z
+        b.quad(
+            m,
+            v(a.x, a.y, a.z),
+            v(a.x, c.y, a.z),
+            v(a.x, c.y, c.z),
+            v(a.x, a.y, c.z),
+        )
+        .unwrap(); // facing +x
+        b.quad(
+            m,
+            v(c.x, a.y, a.z),
+            v(c.x, a.y, c.z),
+            v(c.x, c.y, c.z),
+            v(c.x, c.y, a.z),
+        )
+        .unwrap(); // facing -x
+        b.quad(
+            m,
+            v(a.x, a.y, c.z),
+            v(a.x, c.y, c.z),
+            v(c.x, c.y, c.z),
+            v(c.x, a.y, c.z),
+        )
+        .unwrap(); // facing -z
+        let mut ceiling = |x0: f64, x1: f64, z0: f64, z1: f64| {
+            if x1 > x0 && z1 > z0 {
+                let y = c.y;
+                b.quad(m, v(x0, y, z0), v(x1, y, z0), v(x1, y, z1), v(x0, y, z1))
+                    .unwrap(); // facing down
+            }
+        };
+        match hole {
+            None => ceiling(a.x, c.x, a.z, c.z),
+            Some([x0, x1, z0, z1]) => {
+                ceiling(a.x, c.x, a.z, z0);
+                ceiling(a.x, c.x, z1, c.z);
+                ceiling(a.x, x0, z0, z1);
+                ceiling(x1, c.x, z0, z1);
+            }
+        }
+    }
+
+    fn overcast() -> Option<crate::scene::Sky> {
+        Some(crate::scene::Sky::with_horizontal_illuminance(
+            crate::scene::SkyModel::Overcast,
+            10_000.0,
+        ))
+    }
+
+    #[test]
+    fn a_hollow_inside_an_object_under_a_sky_is_not_taken_for_a_room() {
+        // A solid block 12 m across (outward faces) with a closed 4 m hollow
+        // inside it (inward faces), as a voxel figure's cavities: the sky
+        // lights the block, never the hollow.
+        let mut b = SceneBuilder::new("block");
+        let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        let (lo, hi) = (v(-6.0, 0.0, -6.0), v(6.0, 12.0, 6.0));
+        b.axis_box("block", grey, lo, hi).unwrap();
+        inward_box(&mut b, grey, v(-2.0, 4.0, -2.0), v(2.0, 8.0, 2.0), None);
+        let mut scene = b.build().unwrap();
+        scene.sky = overcast();
+        let camera = Camera::framing(&scene);
+        let expected = Camera::framing_box(lo, hi);
+        assert_eq!(camera.position, expected.position);
+        assert_eq!(camera.forward, expected.forward);
+    }
+
+    #[test]
+    fn under_a_sky_the_room_open_to_it_is_viewed_not_a_larger_closed_one() {
+        // No lamp: a 4 x 3 x 6 room with a 2 m square opening in its roof,
+        // and beside it a larger closed room the sky cannot reach.
+        let mut b = SceneBuilder::new("rooms");
+        let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        let roof_hole = Some([1.0, 3.0, 2.0, 4.0]);
+        inward_box(&mut b, grey, v(0.0, 0.0, 0.0), v(4.0, 3.0, 6.0), roof_hole);
+        inward_box(&mut b, grey, v(5.0, 0.0, 0.0), v(11.0, 3.0, 8.0), None);
+        let mut scene = b.build().unwrap();
+        scene.sky = overcast();
+        let p = Camera::framing(&scene).position;
+        let in_open_room = p.cmpgt(v(0.0, 0.0, 0.0)).all() && p.cmplt(v(4.0, 3.0, 6.0)).all();
+        assert!(in_open_room, "{p}");
+        // Without the sky nothing gives light, and the larger room is shown.
+        scene.sky = None;
+        let p = Camera::framing(&scene).position;
+        let in_closed_room = p.cmpgt(v(5.0, 0.0, 0.0)).all() && p.cmplt(v(11.0, 3.0, 8.0)).all();
+        assert!(in_closed_room, "{p}");
+    }
+
+    #[test]
+    fn a_lit_nook_of_one_grid_point_in_a_large_object_is_not_taken_for_a_room() {
+        // A block 20 m across (grid points 20/14 m apart, more than a room's
+        // smallest size) with a closed 1.2 m nook around one grid point,
+        // lit by a small lamp on its floor: the nook is enclosed and lit but
+        // holds one grid point, so the block is seen from outside.
+        let mut b = SceneBuilder::new("statue");
+        let grey = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        let lamp = b.material("lamp", Rgb::ZERO, Rgb::ONE).unwrap();
+        let (lo, hi) = (v(-10.0, 0.0, -10.0), v(10.0, 20.0, 10.0));
+        b.axis_box("block", grey, lo, hi).unwrap();
+        // Around the grid point (0.714, 10.714, 0.714).
+        inward_box(&mut b, grey, v(0.1, 10.1, 0.1), v(1.3, 11.3, 1.3), None);
+        b.object("lamp");
+        b.quad(
+            lamp,
+            v(0.5, 10.15, 0.5),
+            v(0.5, 10.15, 0.9),
+            v(0.9, 10.15, 0.9),
+            v(0.9, 10.15, 0.5),
+        )
+        .unwrap();
+        let scene = b.build().unwrap();
+        let camera = Camera::framing(&scene);
+        let expected = Camera::framing_box(lo, hi);
+        assert_eq!(camera.position, expected.position);
     }
 }

@@ -183,6 +183,9 @@ impl Scene {
                 ));
             }
         }
+        // A model exported before anyone lit it (common in architecture)
+        // is lit by daylight instead.
+        message.push_str("; or light it with daylight (`sky`, `sun`)");
         Err(crate::Error::NoLight(message))
     }
 

@@ -6,12 +6,13 @@
 //! way short of the wall behind it, with a field of view that takes in the
 //! far wall's height and the room's width. Each such view is scored by the
 //! share of a coarse grid of its rays whose first surface is lit directly
-//! (sees one of the room's light points from the eye's side), with a small
+//! (sees one of the room's light points from the eye's side, or, under a
+//! sky, sees the sky through one of a few rising rays), with a small
 //! bonus for a longer view; the best one wins, the first of equals in a
 //! fixed order (glTF's front view, -z, first). Seeing through a door into a
 //! dark room, or standing in the doorway, scores low by itself.
 
-use super::rooms::{Room, Tracer};
+use super::rooms::{sphere_directions, Room, Tracer};
 use super::Camera;
 use glam::DVec3;
 
@@ -28,8 +29,13 @@ const SCORE_RAYS: (usize, usize) = (12, 9);
 /// against the lit share: only breaks near ties.
 const LENGTH_BONUS: f64 = 0.05;
 
-/// The best view across `room` lit from `lights` (see the module notes).
-pub(crate) fn across_room(tracer: &Tracer, room: &Room, lights: &[DVec3]) -> Camera {
+/// Directions (of an even spread over the sphere, the rising half kept) a
+/// surface looks for the sky along.
+const SKY_RAYS: usize = 16;
+
+/// The best view across `room` lit from `lights`, and from the sky when
+/// `sky` (see the module notes).
+pub(crate) fn across_room(tracer: &Tracer, room: &Room, lights: &[DVec3], sky: bool) -> Camera {
     let mut order: Vec<usize> = (0..room.points.len()).collect();
     order.sort_by(|&a, &b| {
         room.openness[b]
@@ -50,9 +56,17 @@ pub(crate) fn across_room(tracer: &Tracer, room: &Room, lights: &[DVec3]) -> Cam
         }
     }
     let longest = views.iter().map(|v| v.1).fold(0.0, f64::max).max(1e-9);
+    let rising: Vec<DVec3> = if sky {
+        sphere_directions(SKY_RAYS)
+            .into_iter()
+            .filter(|d| d.y > 0.0)
+            .collect()
+    } else {
+        Vec::new()
+    };
     let mut best: Option<(f64, Camera)> = None;
     for (camera, length) in views {
-        let score = lit_share(tracer, &camera, lights) + LENGTH_BONUS * length / longest;
+        let score = lit_share(tracer, &camera, lights, &rising) + LENGTH_BONUS * length / longest;
         if best.as_ref().is_none_or(|b| score > b.0 + 1e-12) {
             best = Some((score, camera));
         }
@@ -82,8 +96,9 @@ fn view_from(tracer: &Tracer, c: DVec3, forward: DVec3) -> (Camera, f64) {
 }
 
 /// The share of a coarse grid of the camera's rays (4:3) whose first
-/// surface sees one of `lights` from the eye's side.
-fn lit_share(tracer: &Tracer, camera: &Camera, lights: &[DVec3]) -> f64 {
+/// surface sees one of `lights`, or the sky along one of `rising`, from the
+/// eye's side.
+fn lit_share(tracer: &Tracer, camera: &Camera, lights: &[DVec3], rising: &[DVec3]) -> f64 {
     let (w, h) = SCORE_RAYS;
     let tan = (camera.yfov * 0.5).tan();
     let right = camera.right();
@@ -101,7 +116,10 @@ fn lit_share(tracer: &Tracer, camera: &Camera, lights: &[DVec3]) -> f64 {
             let eye_side = hit.normal.dot(camera.position - p).signum();
             let seen = lights
                 .iter()
-                .any(|l| hit.normal.dot(*l - p).signum() == eye_side && tracer.sees(p, *l));
+                .any(|l| hit.normal.dot(*l - p).signum() == eye_side && tracer.sees(p, *l))
+                || rising.iter().any(|d| {
+                    hit.normal.dot(*d).signum() == eye_side && tracer.first(p, *d).is_none()
+                });
             lit += usize::from(seen);
         }
     }

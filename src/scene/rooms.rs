@@ -10,7 +10,8 @@
 //! over the scene's bounds that are enclosed and not inside a solid are
 //! gathered into rooms ([`find_rooms`]); a room is
 //! **lit** when one of its points sees an emitting surface or a punctual
-//! light. The main lit room is the largest lit one (the largest enclosed
+//! light, or, under a sky, when one of its rays leaves the scene upwards
+//! (through a window, a skylight, an open court). The main lit room is the largest lit one (the largest enclosed
 //! one when none is lit), if it is large enough for a person to stand in.
 
 use super::rays::{Accel, SurfaceGeometry, Tolerances};
@@ -34,6 +35,11 @@ const RAYS: usize = 64;
 /// The smallest room a view is taken inside, in metres (glTF's unit): a
 /// lamp shade or a cupboard is an object, not a room.
 pub(crate) const ROOM_SIZE: f64 = 1.2;
+
+/// The fewest grid points a room a view is taken inside holds: a nook of
+/// one or two points between an object's parts (a figure's arm and its
+/// body, which may be metres across in a model of odd units) is not a room.
+pub(crate) const MIN_ROOM_POINTS: usize = 4;
 
 /// Punctual lights and emitting surfaces looked for from each point, at most
 /// (the caller lists the brightest first).
@@ -139,13 +145,21 @@ const MAX_ROOMS: usize = 8;
 
 /// The rooms of the scene whose surfaces `tracer` holds, within `lo..hi`,
 /// largest first; `lights` are the points a room is lit from (punctual
-/// lights, and points just in front of emitting surfaces).
+/// lights, and points just in front of emitting surfaces); with `sky`, a
+/// room whose points see the sky (a ray that meets nothing and rises) is
+/// lit too.
 ///
 /// Each room grows from the free point with the most space around it (the
 /// longest mean distance to the surfaces its rays meet) not yet in a room,
 /// and holds every such point that sees it: two rooms joined by a door
 /// stay two rooms (the door lets each see only a narrow cone of the other).
-pub(crate) fn find_rooms(tracer: &Tracer, lo: DVec3, hi: DVec3, lights: &[DVec3]) -> Vec<Room> {
+pub(crate) fn find_rooms(
+    tracer: &Tracer,
+    lo: DVec3,
+    hi: DVec3,
+    lights: &[DVec3],
+    sky: bool,
+) -> Vec<Room> {
     let size = hi - lo;
     let step = size.max_element() / GRID;
     if !(step > 0.0 && step.is_finite()) {
@@ -154,24 +168,28 @@ pub(crate) fn find_rooms(tracer: &Tracer, lo: DVec3, hi: DVec3, lights: &[DVec3]
     let counts = (size / step).ceil().max(DVec3::ONE);
     let (nx, ny, nz) = (counts.x as usize, counts.y as usize, counts.z as usize);
     let directions = sphere_directions(RAYS);
-    // Free points and the mean distance their rays travel.
-    let mut free: Vec<(DVec3, f64)> = Vec::new();
+    // Free points, the mean distance their rays travel, and whether one of
+    // them rises into the sky.
+    let mut free: Vec<(DVec3, f64, bool)> = Vec::new();
     for k in 0..nz {
         for j in 0..ny {
             for i in 0..nx {
                 let cell = DVec3::new(i as f64, j as f64, k as f64) + 0.5;
                 let p = lo + cell * size / counts;
                 let (mut met, mut backs, mut travelled) = (0usize, 0usize, 0.0);
+                let mut sees_sky = false;
                 for d in &directions {
                     if let Some(m) = tracer.first(p, *d) {
                         met += 1;
                         backs += usize::from(m.back);
                         travelled += m.t;
+                    } else {
+                        sees_sky |= sky && d.y > 0.0;
                     }
                 }
                 let enclosed = met as f64 >= ENCLOSED * RAYS as f64;
                 if enclosed && (backs as f64) < SOLID * RAYS as f64 {
-                    free.push((p, travelled / met as f64));
+                    free.push((p, travelled / met as f64, sees_sky));
                 }
             }
         }
@@ -185,16 +203,19 @@ pub(crate) fn find_rooms(tracer: &Tracer, lo: DVec3, hi: DVec3, lights: &[DVec3]
         let Some(seed) = seed else { break };
         let centre = free[seed].0;
         let (mut points, mut openness) = (Vec::new(), Vec::new());
-        for (i, (p, open)) in free.iter().enumerate() {
+        let mut sees_sky = false;
+        for (i, (p, open, sky)) in free.iter().enumerate() {
             if !taken[i] && (i == seed || tracer.sees(centre, *p)) {
                 taken[i] = true;
                 points.push(*p);
                 openness.push(*open);
+                sees_sky |= sky;
             }
         }
-        let lit = points
-            .iter()
-            .any(|p| lights.iter().take(SOURCES).any(|l| tracer.sees(*p, *l)));
+        let lit = sees_sky
+            || points
+                .iter()
+                .any(|p| lights.iter().take(SOURCES).any(|l| tracer.sees(*p, *l)));
         rooms.push(Room {
             centre,
             points,

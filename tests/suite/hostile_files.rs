@@ -558,6 +558,40 @@ fn instances_count_towards_the_triangle_limit() {
 }
 
 #[test]
+fn a_mesh_placed_by_several_nodes_warns_of_a_fault_once() {
+    // The base file's first mesh loses its material and is placed by two
+    // more nodes: the default-grey warning is said once, not three times.
+    let mut doc: Value = serde_json::from_slice(&base_file("gltf")).unwrap();
+    let nodes = doc["nodes"].as_array().unwrap().len();
+    let with_mesh = doc["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n.get("mesh").is_some())
+        .unwrap();
+    let mesh = doc["nodes"][with_mesh]["mesh"].as_u64().unwrap() as usize;
+    for prim in doc["meshes"][mesh]["primitives"].as_array_mut().unwrap() {
+        prim.as_object_mut().unwrap().remove("material");
+    }
+    let extra: Vec<Value> = (1..3)
+        .map(|i| serde_json::json!({"mesh": mesh, "translation": [0.0, 0.0, i as f64 * 0.01]}))
+        .collect();
+    doc["nodes"].as_array_mut().unwrap().extend(extra);
+    let roots = doc["scenes"][0]["nodes"].as_array_mut().unwrap();
+    roots.extend((nodes..nodes + 2).map(|i| serde_json::json!(i)));
+    let path = dir().join("instanced_without_material.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let scene = load_scene(&path, &ImportLimits::default()).unwrap();
+    let grey: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("has no material"))
+        .collect();
+    let primitives = doc["meshes"][mesh]["primitives"].as_array().unwrap().len();
+    assert_eq!(grey.len(), primitives, "{grey:?}");
+}
+
+#[test]
 fn the_patch_limit_is_an_error_before_anything_is_allocated() {
     let scene = lit_room_with_box(1.0, 1.0, 0.01);
     let settings = Settings {

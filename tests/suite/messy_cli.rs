@@ -64,6 +64,8 @@ fn a_file_without_light_is_refused_at_load_saying_why() {
         text.contains("has no light") && text.contains("emissiveFactor"),
         "{text}"
     );
+    // It names the daylight options as the CLI spells them.
+    assert!(text.contains("daylight (--sky, --sun)"), "{text}");
     // Refused before the solve: no progress, no outputs.
     assert!(!text.contains("progress:"), "{text}");
     assert_eq!(std::fs::read_dir(&out_dir).map_or(0, |d| d.count()), 0);
