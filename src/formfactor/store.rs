@@ -227,6 +227,32 @@ impl FormFactors {
         }
     }
 
+    /// Leaf `k`'s form factors as the gather uses them, `(patch, F_kj)` in
+    /// patch order: its stored entries, with its own view of the emitters
+    /// applied where it borrows its group lead's row (see
+    /// [`FormFactors::emitter_shift`]). A solver that reads the rows some
+    /// other way than the gather (shots by the transposed rows) takes them
+    /// from here, so that it solves the same system.
+    #[must_use]
+    pub(crate) fn gathered_entries(&self, k: ElementKey) -> Vec<(u32, f64)> {
+        let entries = self.entries(k);
+        let Some(shift) = self.emitter_shift(k) else {
+            return entries.iter().map(|&(j, f)| (j, f64::from(f))).collect();
+        };
+        let scale = f64::from(shift.scale);
+        let mut out: Vec<(u32, f64)> = entries
+            .iter()
+            .map(|&(j, f)| (j, f64::from(f) * scale))
+            .collect();
+        for &(j, d) in &shift.entries {
+            match out.binary_search_by_key(&j, |e| e.0) {
+                Ok(i) => out[i].1 += f64::from(d),
+                Err(i) => out.insert(i, (j, f64::from(d))),
+            }
+        }
+        out
+    }
+
     /// Marks leaf `k` as needing no row.
     pub fn skip(&mut self, k: ElementKey) {
         self.emitter_shifts.remove(k);

@@ -94,9 +94,11 @@ impl ShotCache {
             return false;
         }
         let mut factors: Vec<Vec<(ElementKey, f64)>> = vec![Vec::new(); patches];
+        let mut entries = 0;
         for &k in keys {
-            for &(j, f) in form_factors.entries(k) {
-                factors[j as usize].push((k, f64::from(f)));
+            for (j, f) in form_factors.gathered_entries(k) {
+                factors[j as usize].push((k, f));
+                entries += 1;
             }
         }
         self.patches = factors
@@ -113,19 +115,25 @@ impl ShotCache {
     }
 
     /// Brings the cache up to a refinement pass: entries of elements that are
-    /// no longer leaves go, and each of the new leaves `fresh` (with its
-    /// gathering row in `form_factors`) joins every cached patch its row sees.
+    /// no longer leaves go, and so do those of the leaves in `fresh`; each
+    /// leaf of `fresh` (with its gathering row in `form_factors`) then joins
+    /// every cached patch its row sees. `fresh` holds the new leaves and the
+    /// leaves whose rows were taken again (members of a facet group that no
+    /// longer shares its lead's row): their old entries must not stay beside
+    /// the new, or a shot would reach them twice.
     pub(crate) fn refine(&mut self, mesh: &Mesh, form_factors: &FormFactors, fresh: &[ElementKey]) {
+        let retaken: std::collections::HashSet<ElementKey> = fresh.iter().copied().collect();
         let mut entries = 0;
         for c in self.patches.iter_mut().flatten() {
-            c.factors
-                .retain(|(k, _)| mesh.elements.get(*k).is_some_and(|e| e.is_leaf()));
+            c.factors.retain(|(k, _)| {
+                !retaken.contains(k) && mesh.elements.get(*k).is_some_and(|e| e.is_leaf())
+            });
             entries += c.factors.len();
         }
         for &k in fresh {
-            for &(j, f) in form_factors.entries(k) {
+            for (j, f) in form_factors.gathered_entries(k) {
                 if let Some(c) = &mut self.patches[j as usize] {
-                    c.factors.push((k, f64::from(f)));
+                    c.factors.push((k, f));
                     entries += 1;
                 }
             }
@@ -246,5 +254,25 @@ mod tests {
             "refinement does not create patches' entries"
         );
         assert_eq!(cache.entries(), 6);
+    }
+
+    #[test]
+    fn a_leaf_whose_row_is_taken_again_is_reached_once_by_its_new_factor() {
+        // Leaf `b` held a copy of its group lead's row; the group stopped
+        // sharing, and `b` rendered a row of its own: the cache keeps only
+        // the new factor, so a shot of patch 5 reaches `b` once.
+        let m = mesh();
+        let leaves = m.leaves();
+        let (a, b) = (leaves[0], leaves[1]);
+        let mut cache = ShotCache::new(m.patches.len(), 1 << 20);
+        assert!(cache.store(5, 0, vec![(a, 0.1), (b, 0.2)]).is_ok());
+        let mut rows = FormFactors::new();
+        rows.set_row(b, Row::from_sorted(vec![(5, 0.25)]));
+        cache.refine(&m, &rows, &[b]);
+        let five = cache.get(5, 0).unwrap();
+        let reaching_b: Vec<f64> = five.iter().filter(|e| e.0 == b).map(|e| e.1).collect();
+        assert_eq!(reaching_b, vec![0.25]);
+        assert!(five.contains(&(a, 0.1)));
+        assert_eq!(cache.entries(), 2);
     }
 }

@@ -9,8 +9,9 @@ use crate::mesh::{ElementKey, Mesh};
 use crate::solve::Radiosity;
 
 /// Sets each new leaf's irradiance to `sum_j F_ej S_j` from its gathering row
-/// in `form_factors` (`F_ej` to patch `j`, with the balance's scales when
-/// shots deliver by them) and the radiosity `S_j` patch `j` has shot, then
+/// in `form_factors` (`F_ej` to patch `j` as the gather takes it: a facet
+/// that borrows its group lead's row sees the emitters itself; with the
+/// balance's scales when shots deliver by them) and the radiosity `S_j` patch `j` has shot, then
 /// re-sums the touched patches. Returns the change in unshot power per band
 /// (what the better estimate added to or took from the patches' unshot
 /// light).
@@ -23,8 +24,8 @@ pub(crate) fn adopt(
 ) -> Rgb {
     for &k in keys {
         let mut h = Rgb::ZERO;
-        for &(j, f) in form_factors.entries(k) {
-            h += state.shot[j as usize] * (f64::from(f) * state.delivery_scale(j, k));
+        for (j, f) in form_factors.gathered_entries(k) {
+            h += state.shot[j as usize] * (f * state.delivery_scale(j, k));
         }
         state.set_leaf(mesh, radiosity, k, h);
     }
