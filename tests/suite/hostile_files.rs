@@ -525,24 +525,30 @@ fn a_file_larger_than_the_byte_limit_is_refused() {
     );
 }
 
-#[test]
-fn instances_count_towards_the_triangle_limit() {
-    // One mesh placed by 40 nodes: each instance's triangles count.
-    let mut doc: Value = serde_json::from_slice(&base_file("gltf")).unwrap();
+/// The index of the first mesh a node of `doc` places, after `more` more
+/// nodes (roots of the first scene, a centimetre apart) place it too.
+fn place_first_mesh_again(doc: &mut Value, more: usize) -> usize {
     let nodes = doc["nodes"].as_array().unwrap().len();
-    let with_mesh = doc["nodes"]
+    let mesh = doc["nodes"]
         .as_array()
         .unwrap()
         .iter()
-        .position(|n| n.get("mesh").is_some())
-        .unwrap();
-    let mesh = doc["nodes"][with_mesh]["mesh"].clone();
-    let extra: Vec<Value> = (0..40)
+        .find_map(|n| n.get("mesh").and_then(Value::as_u64))
+        .unwrap() as usize;
+    let extra: Vec<Value> = (1..=more)
         .map(|i| serde_json::json!({"mesh": mesh, "translation": [0.0, 0.0, i as f64 * 0.01]}))
         .collect();
     doc["nodes"].as_array_mut().unwrap().extend(extra);
     let roots = doc["scenes"][0]["nodes"].as_array_mut().unwrap();
-    roots.extend((nodes..nodes + 40).map(|i| serde_json::json!(i)));
+    roots.extend((nodes..nodes + more).map(|i| serde_json::json!(i)));
+    mesh
+}
+
+#[test]
+fn instances_count_towards_the_triangle_limit() {
+    // One mesh placed by 40 more nodes: each instance's triangles count.
+    let mut doc: Value = serde_json::from_slice(&base_file("gltf")).unwrap();
+    place_first_mesh_again(&mut doc, 40);
     let path = dir().join("limit_instances.gltf");
     std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
     let total = load_scene(&path, &ImportLimits::default())
@@ -562,23 +568,10 @@ fn a_mesh_placed_by_several_nodes_warns_of_a_fault_once() {
     // The base file's first mesh loses its material and is placed by two
     // more nodes: the default-grey warning is said once, not three times.
     let mut doc: Value = serde_json::from_slice(&base_file("gltf")).unwrap();
-    let nodes = doc["nodes"].as_array().unwrap().len();
-    let with_mesh = doc["nodes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .position(|n| n.get("mesh").is_some())
-        .unwrap();
-    let mesh = doc["nodes"][with_mesh]["mesh"].as_u64().unwrap() as usize;
+    let mesh = place_first_mesh_again(&mut doc, 2);
     for prim in doc["meshes"][mesh]["primitives"].as_array_mut().unwrap() {
         prim.as_object_mut().unwrap().remove("material");
     }
-    let extra: Vec<Value> = (1..3)
-        .map(|i| serde_json::json!({"mesh": mesh, "translation": [0.0, 0.0, i as f64 * 0.01]}))
-        .collect();
-    doc["nodes"].as_array_mut().unwrap().extend(extra);
-    let roots = doc["scenes"][0]["nodes"].as_array_mut().unwrap();
-    roots.extend((nodes..nodes + 2).map(|i| serde_json::json!(i)));
     let path = dir().join("instanced_without_material.gltf");
     std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
     let scene = load_scene(&path, &ImportLimits::default()).unwrap();
