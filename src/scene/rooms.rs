@@ -11,8 +11,10 @@
 //! gathered into rooms ([`find_rooms`]); a room is
 //! **lit** when one of its points sees an emitting surface or a punctual
 //! light, or, under a sky, when one of its rays leaves the scene upwards
-//! (through a window, a skylight, an open court). The main lit room is the largest lit one (the largest enclosed
-//! one when none is lit), if it is large enough for a person to stand in.
+//! (through a window, a skylight, an open court). The main lit room is the
+//! largest lit one, if it is large enough for a person to stand in and
+//! holds a few grid points; the largest enclosed one stands in only when
+//! nothing in the scene gives light (see [`super::framing`]).
 
 use super::rays::{Accel, SurfaceGeometry, Tolerances};
 use super::{Scene, Surface};
