@@ -347,10 +347,11 @@ pub struct SolveSettingsArgs {
     pub source_tolerance: f64,
     /// Final gathers in which each element sees an unevenly lit patch close
     /// by as its parts (its elements) rather than its mean, e.g. a bench the
-    /// floor in its own shadow (gauss-seidel only); 0 gathers patch means,
-    /// as plain substructuring does. Try 2 in cluttered scenes [default: 1
-    /// with gauss-seidel's full solution, 0 with the progressive solver or
-    /// --bounces]
+    /// floor in its own shadow; 0 gathers patch means, as plain
+    /// substructuring does. The progressive solver makes them once it has
+    /// converged (not when --max-shots or --time-budget stops it). Try 2 in
+    /// cluttered scenes [default: 1; 0 with --bounces, or with an
+    /// --unshot-tolerance above 1e-4, which asks for an early answer]
     #[arg(long = "shaped-gathers", value_name = "N")]
     pub shaped_gathers: Option<usize>,
     /// Subdivide every patch uniformly to this depth instead of adapting

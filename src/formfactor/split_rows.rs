@@ -95,7 +95,7 @@ fn derived_row(
     let row = match form_factors.state(k) {
         RowState::Computed(row) => row,
         RowState::Skipped | RowState::ShutIn(_) => return Update::Unchanged,
-        RowState::Pending | RowState::Released(_) => return Update::Anew,
+        RowState::Pending => return Update::Anew,
     };
     if !row
         .entries()

@@ -63,10 +63,6 @@ pub enum RowState {
     ShutIn(RowView),
     /// Computed, with what the leaf sees.
     Computed(Row),
-    /// Computed and exposed, its entries no longer kept here: a solver that
-    /// keeps them in its own layout took them (the progressive solver's shot
-    /// cache), or had no more use for them. Its view stays.
-    Released(RowView),
 }
 
 impl RowState {
@@ -74,16 +70,13 @@ impl RowState {
     /// not empty.
     #[must_use]
     pub(crate) fn is_exposed(&self) -> bool {
-        matches!(self, RowState::Computed(_) | RowState::Released(_))
+        matches!(self, RowState::Computed(_))
     }
 
     /// True when the row was computed (exposed or shut in).
     #[must_use]
     pub(crate) fn is_computed(&self) -> bool {
-        matches!(
-            self,
-            RowState::Computed(_) | RowState::ShutIn(_) | RowState::Released(_)
-        )
+        matches!(self, RowState::Computed(_) | RowState::ShutIn(_))
     }
 
     /// What the row says of the receiver's view, once computed.
@@ -91,7 +84,7 @@ impl RowState {
     pub fn view(&self) -> Option<RowView> {
         match self {
             RowState::Computed(row) => Some(RowView::of(row)),
-            RowState::ShutIn(view) | RowState::Released(view) => Some(*view),
+            RowState::ShutIn(view) => Some(*view),
             RowState::Pending | RowState::Skipped => None,
         }
     }
@@ -265,24 +258,6 @@ impl FormFactors {
         self.states.remove(k);
     }
 
-    /// Frees leaf `k`'s entries, keeping its verdict (see
-    /// [`RowState::Released`]); returns the row (empty unless computed and
-    /// exposed).
-    pub fn release(&mut self, k: ElementKey) -> Row {
-        self.emitter_shifts.remove(k);
-        let Some(state) = self.states.get_mut(k) else {
-            return Row::default();
-        };
-        let RowState::Computed(row) = state else {
-            return Row::default();
-        };
-        let view = RowView::of(row);
-        match std::mem::replace(state, RowState::Released(view)) {
-            RowState::Computed(row) => row,
-            _ => Row::default(),
-        }
-    }
-
     /// Every stored row with its leaf.
     pub fn rows(&self) -> impl Iterator<Item = (ElementKey, &Row)> {
         self.states.iter().filter_map(|(k, s)| match s {
@@ -317,7 +292,7 @@ mod tests {
     use slotmap::SlotMap;
 
     /// A shift lives as long as the borrowed row it goes with: a row of the
-    /// leaf's own, a skip, a split or a release leaves none.
+    /// leaf's own, a skip or a split leaves none.
     #[test]
     fn a_shift_goes_with_the_borrowed_row_only() {
         let mut keys: SlotMap<ElementKey, ()> = SlotMap::with_key();
@@ -335,10 +310,10 @@ mod tests {
         // Its own row.
         store.set_row(facet, Row::from_sorted(vec![(3, 0.6)]));
         assert_eq!(store.emitter_shift(facet), None);
-        // Shared again, then released: the entries are gone, so is the shift.
+        // Shared again, then skipped: the entries are gone, so is the shift.
         store.share(facet, lead);
         store.set_emitter_shift(facet, shift());
-        store.release(facet);
+        store.skip(facet);
         assert_eq!(store.emitter_shift(facet), None);
         // No change is not kept.
         store.share(facet, lead);

@@ -6,7 +6,9 @@ use super::strategy::{Next, Solver};
 use super::workspace::Workspace;
 use super::{Progress, SourcePassStats, Stage};
 use crate::error::Result;
-use crate::formfactor::{update_rows_for_splits, FormFactors, RowScene, Sources, SplitPatch};
+use crate::formfactor::{
+    update_rows_for_splits, FormFactors, RowScene, RowState, Sources, SplitPatch,
+};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::mark_sources;
@@ -135,6 +137,36 @@ impl Gathering {
                 }
             }
         }
+        Ok(gathering)
+    }
+
+    /// Takes over another solver's converged solution (the progressive
+    /// solver's, whose shots leave every patch gathered by its mean) on the
+    /// current mesh of `ws`, from its patch radiosities `b`: the leaves
+    /// without a row in the store render one, the patch system is assembled,
+    /// solved from `b` (a few sweeps: `b` solves nearly the same system) and
+    /// gathered. Its [`Solver::finish`] then makes the shaped gathers.
+    pub(super) fn take_over(ws: &mut Workspace<'_>, b: Vec<Rgb>) -> Result<Self> {
+        let missing: Vec<ElementKey> = ws
+            .mesh
+            .leaves()
+            .into_iter()
+            .filter(|&k| matches!(ws.form_factors.state(k), RowState::Pending))
+            .collect();
+        let pass = ws.stats.passes.len() + 1;
+        ws.compute_rows(&missing, pass);
+        let system = assemble(ws);
+        let mut gathering = Gathering {
+            b,
+            system,
+            report: SolveReport::default(),
+            totals: GatherTotals::default(),
+            iterations: 0,
+            settled: true,
+            keep_shapes: false,
+            kept: None,
+        };
+        gathering.solve_and_gather(ws)?;
         Ok(gathering)
     }
 }

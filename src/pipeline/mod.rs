@@ -22,7 +22,7 @@ mod workspace;
 pub use crate::solve::SolverSettings;
 pub(crate) use gathering::weighted_patch_means;
 pub use progress::{Progress, Stage};
-pub use progressive::{Preview, ProgressiveSettings, SolverKind};
+pub use progressive::{Preview, ProgressiveSettings, SolverKind, DEFAULT_UNSHOT_TOLERANCE};
 pub(crate) use scale::times_pow2;
 pub use settings::{Settings, DEFAULT_MAX_MEMORY, DEFAULT_SHAPED_GATHERS, MAX_SHAPED_GATHERS};
 pub use skips::Skips;

@@ -1,5 +1,6 @@
 //! Settings of a solve, with defaults derived from the scene.
 
+use super::progressive::DEFAULT_UNSHOT_TOLERANCE;
 use super::Skips;
 use super::{ProgressiveSettings, SolverKind};
 use crate::error::{Error, Result};
@@ -65,10 +66,14 @@ pub struct Settings {
     /// `crate::solve::source_shape`); `Some(0)` gathers every patch's mean,
     /// as the substructuring method does. Each gather starts from the last
     /// one's element radiosities. `None` (the default) is
-    /// [`DEFAULT_SHAPED_GATHERS`] for the gathering solver's full solution
-    /// and 0 for the progressive solver or a fixed number of bounces (see
-    /// [`Settings::shaped_gather_count`]). A positive count with either of
-    /// those is refused by [`Settings::validate`].
+    /// [`DEFAULT_SHAPED_GATHERS`] for the full solution and 0 for a fixed
+    /// number of bounces (see [`Settings::shaped_gather_count`]), where a
+    /// positive count is refused by [`Settings::validate`]. The progressive
+    /// solver makes them once it has converged: the gathering solver takes
+    /// its solution over with every leaf's row (see `crate::pipeline`'s
+    /// progressive driver); by default none when told to stop early (see
+    /// [`DEFAULT_UNSHOT_TOLERANCE`]); a solve stopped by a shot limit or a
+    /// time budget makes none, and says so.
     pub shaped_gathers: Option<usize>,
     /// In a shaped gather, a receiver whose row sees clearly less of a near
     /// patch than the parts' unoccluded form factors add up to draws its
@@ -121,7 +126,7 @@ impl Default for Settings {
     }
 }
 
-/// Shaped gathers the gathering solver makes unless told: one takes most of
+/// Shaped gathers a solve makes unless told: one takes most of
 /// the gain (the 100 000-triangle atrium's mean per-object error falls from
 /// 5.8% to 1.8%, the Ferren sculpture's from 4.1% to 2.3%) for a few percent
 /// of the time; a second moves the atrium's by another tenth.
@@ -143,17 +148,20 @@ impl Settings {
     }
 
     /// How many shaped gathers the solve makes: [`Settings::shaped_gathers`]
-    /// when set, else [`DEFAULT_SHAPED_GATHERS`] for the gathering solver's
-    /// full solution and 0 otherwise.
+    /// when set, else [`DEFAULT_SHAPED_GATHERS`] for the full solution (of
+    /// either solver), and 0 with a fixed number of bounces or a progressive
+    /// solve told to stop early (an unshot tolerance above
+    /// [`DEFAULT_UNSHOT_TOLERANCE`]).
     #[must_use]
     pub fn shaped_gather_count(&self) -> usize {
-        self.shaped_gathers.unwrap_or(
-            if self.solver_kind == SolverKind::Progressive || self.bounces.is_some() {
+        let early = self.solver_kind == SolverKind::Progressive
+            && self.progressive.tolerance > DEFAULT_UNSHOT_TOLERANCE;
+        self.shaped_gathers
+            .unwrap_or(if self.bounces.is_some() || early {
                 0
             } else {
                 DEFAULT_SHAPED_GATHERS
-            },
-        )
+            })
     }
 
     /// Whether shaped gathers draw part views (see [`Settings::part_views`]):
@@ -202,12 +210,6 @@ impl Settings {
                 format!("must be at most {MAX_SHAPED_GATHERS}, got {shaped}"),
             );
         }
-        if shaped > 0 && self.solver_kind == SolverKind::Progressive {
-            return bad(
-                "shaped_gathers",
-                "shaped gathers apply to the gathering solver (gauss-seidel) only".to_string(),
-            );
-        }
         if shaped > 0 && self.bounces.is_some() {
             return bad(
                 "shaped_gathers",
@@ -220,8 +222,7 @@ impl Settings {
             return bad(
                 "part_views",
                 "part views weigh the parts of unevenly lit patches in shaped gathers, and \
-                 this solve makes none (the progressive solver, `bounces` or \
-                 `shaped_gathers` 0)"
+                 this solve makes none (`bounces` or `shaped_gathers` 0)"
                     .to_string(),
             );
         }

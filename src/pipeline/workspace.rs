@@ -294,7 +294,7 @@ impl<'a> Workspace<'a> {
         let form_factors = &self.form_factors;
         let is_near = |k| match form_factors.state(k) {
             RowState::Computed(row) => row.near() > NEAR_SHARE,
-            RowState::ShutIn(view) | RowState::Released(view) => f64::from(view.near) > NEAR_SHARE,
+            RowState::ShutIn(view) => f64::from(view.near) > NEAR_SHARE,
             RowState::Pending | RowState::Skipped => false,
         };
         let mut marks = mark_for_split(&self.mesh, &self.radiosity, limits, &is_near);

@@ -43,6 +43,10 @@ pub(crate) const FACING_SPLIT: f64 = 0.5;
 /// behind something else.
 pub(crate) const FACING_MIN_FF: f64 = 0.05;
 
+/// Lengths below this fraction of a surface's patch size are taken for
+/// rounding: a foot that far outside an edge is on it.
+const ON_THE_LINE: f64 = 1e-9;
+
 /// The leaves that a facing receiver stands too close to (see the module
 /// notes), each once, in `leaves` order; only leaves that may split (depth
 /// below `max_depth`, children no smaller than `min_area`). `entries(k)` is
@@ -77,12 +81,18 @@ pub(crate) fn mark_facing<'a>(
                 if normal.dot(lattice.normal) > -FACING_COS {
                     continue;
                 }
+                // Rounding must not decide a receiver in the plane or a foot
+                // on the edge: what they come to depends on where the scene
+                // sits and at what scale (a foot exactly on an edge read
+                // 0 at one scale and 1e-19 at another, and the two meshes
+                // differed).
+                let rounding = ON_THE_LINE * lattice.patch_size;
                 let height = lattice.normal.dot(e.centroid - lattice.vertices[0]);
-                if height <= 0.0 {
+                if height <= rounding {
                     continue;
                 }
                 let foot = e.centroid - lattice.normal * height;
-                if lattice.outside_distance(foot) > 0.0 {
+                if lattice.outside_distance(foot) > rounding {
                     continue;
                 }
                 let Some(under) = mesh.locate(patch.surface, lattice.probe_at(foot), MAX_DEPTH)

@@ -43,7 +43,6 @@ impl Leaf<'_> {
         match self.row {
             RowState::ShutIn(_) => 0.0,
             RowState::Computed(row) => row.visible(),
-            RowState::Released(view) => view.visible(),
             RowState::Pending | RowState::Skipped => 1.0,
         }
     }

@@ -190,10 +190,9 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
             );
         }
     }
-    // The progressive solver gathers patch means and refines by neighbour
-    // differences only (its rows are in its shot cache when it refines, so
-    // it makes no facing splits); compare it with the gathering solver doing
-    // the same.
+    // The shots gather patch means; held to the gathering solver, both
+    // gather means (no shaped gathers) and refine by neighbour differences
+    // only (no facing splits), which keeps their meshes close.
     let quick = quick_settings(0.5);
     let means = Settings {
         shaped_gathers: Some(0),
@@ -205,19 +204,23 @@ fn check(spec: &RandomScene) -> Result<(), TestCaseError> {
     };
     let sol = radiosity::solve(&scene, &means, &|_| {})
         .map_err(|e| TestCaseError::fail(format!("solve failed: {e}")))?;
-    check_progressive(&scene, &sol)
+    check_progressive(&scene, &sol, &means)
 }
 
 /// The progressive solver on the same scene: finite, never raising the unshot
 /// power, balancing energy, and meeting the gathering solution per object.
-fn check_progressive(scene: &Scene, gathered: &Solution) -> Result<(), TestCaseError> {
+fn check_progressive(
+    scene: &Scene,
+    gathered: &Solution,
+    gathered_with: &Settings,
+) -> Result<(), TestCaseError> {
     let settings = Settings {
         solver_kind: SolverKind::Progressive,
         progressive: ProgressiveSettings {
             tolerance: 1e-5,
             ..ProgressiveSettings::default()
         },
-        ..quick_settings(0.5)
+        ..gathered_with.clone()
     };
     let shot = radiosity::solve(scene, &settings, &|_| {})
         .map_err(|e| TestCaseError::fail(format!("progressive solve failed: {e}")))?;

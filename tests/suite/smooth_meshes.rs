@@ -229,7 +229,6 @@ fn the_progressive_solver_ends_where_gauss_seidel_does_when_facet_groups_stop_sh
         &scene,
         &Settings {
             solver_kind: radiosity::pipeline::SolverKind::Progressive,
-            shaped_gathers: None,
             ..base.clone()
         },
         &|_| {},

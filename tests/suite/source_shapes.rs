@@ -166,14 +166,16 @@ fn more_shaped_gathers_than_the_limit_are_refused_naming_the_setting() {
 }
 
 #[test]
-fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
+fn shaped_gathers_with_fixed_bounces_are_refused_and_taken_by_the_progressive_solver() {
+    // The progressive solver hands its converged shots to the gathering
+    // solver, which makes the shaped gathers.
     let progressive = Settings {
         shaped_gathers: Some(2),
         solver_kind: radiosity::pipeline::SolverKind::Progressive,
         ..Settings::default()
     };
-    let message = progressive.validate().unwrap_err().to_string();
-    assert!(message.contains("shaped_gathers"), "{message}");
+    assert!(progressive.validate().is_ok());
+    assert_eq!(progressive.shaped_gather_count(), 2);
     let bounces = Settings {
         shaped_gathers: Some(2),
         bounces: Some(2),
@@ -185,20 +187,23 @@ fn shaped_gathers_with_the_progressive_solver_or_fixed_bounces_are_refused() {
 
 #[test]
 fn part_views_asked_for_without_a_shaped_gather_are_refused() {
-    let with_gather = Settings {
-        part_views: Some(true),
-        ..Settings::default()
-    };
-    assert!(with_gather.validate().is_ok());
-    for without in [
+    for with_gather in [
         Settings {
             part_views: Some(true),
-            shaped_gathers: Some(0),
             ..Settings::default()
         },
         Settings {
             part_views: Some(true),
             solver_kind: radiosity::pipeline::SolverKind::Progressive,
+            ..Settings::default()
+        },
+    ] {
+        assert!(with_gather.validate().is_ok());
+    }
+    for without in [
+        Settings {
+            part_views: Some(true),
+            shaped_gathers: Some(0),
             ..Settings::default()
         },
         Settings {

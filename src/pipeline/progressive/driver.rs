@@ -10,6 +10,7 @@ use crate::error::Result;
 use crate::formfactor::compute_rows;
 use crate::math::Rgb;
 use crate::mesh::ElementKey;
+use crate::pipeline::gathering::Gathering;
 use crate::pipeline::strategy::{Next, Solver};
 use crate::pipeline::workspace::Workspace;
 use crate::solution::{ProgressiveStats, ShootingPass, Solution, StopReason};
@@ -108,9 +109,6 @@ impl Solver for Shooting<'_> {
                         fresh,
                     )
             };
-            for &k in fresh {
-                ws.form_factors.release(k);
-            }
             (change, fresh.len())
         } else {
             self.gather_rows(ws, pass)
@@ -145,6 +143,11 @@ impl Solver for Shooting<'_> {
             .map(|p| ws.radiosity.patch_mean(mesh, p))
             .collect();
         ws.radiosity.set_patches(&patch_radiosity);
+        if let Some(gathering) = self.hand_over(&mut ws, patch_radiosity) {
+            self.file_figures(&mut ws);
+            return gathering.finish(ws);
+        }
+        let mesh = &ws.mesh;
         let mut emitted = Rgb::ZERO;
         for k in mesh.leaves() {
             let e = &mesh.elements[k];
@@ -164,8 +167,8 @@ impl Solver for Shooting<'_> {
                 totals.add_hidden(mesh.elements[k].area, ws.radiosity.element(k), view);
             }
         }
-        // The shots' factors live in the shot cache, not in the store: the
-        // system holds reflectance and emission with empty rows.
+        // The patch system of the rows in the store (those the leaves have
+        // rendered; none for a leaf whose shots rendered its factors).
         let system = PatchSystem::from_mesh(mesh, &ws.form_factors);
         let report = SolveReport {
             iterations: self.shots,
@@ -175,23 +178,70 @@ impl Solver for Shooting<'_> {
             extrapolations: 0,
         };
         ws.finish_stats(&system, report, self.shots, totals);
+        self.file_figures(&mut ws);
+        ws.stats.warn();
+        ws.stats.seconds.total = ws.started.elapsed().as_secs_f64();
+        ws.into_solution(system)
+    }
+}
+
+impl Shooting<'_> {
+    /// The gathering solver in charge of the converged solution, from the
+    /// patch radiosities `b`, when the solve is to end in shaped gathers
+    /// (see `Settings::shaped_gathers`): shots gather every patch by its
+    /// mean, and a shaped gather needs the patch system and its level
+    /// corrections, which are the gathering solver's. `None` when no shaped gather is
+    /// due, or when a stopping rule other than convergence ended the shots
+    /// (said in a warning: the user asked for a bounded solve), or when the
+    /// patch system cannot be solved (also said).
+    fn hand_over(&self, ws: &mut Workspace<'_>, b: Vec<Rgb>) -> Option<Gathering> {
+        let count = ws.settings.shaped_gather_count();
+        if count == 0 || ws.settings.bounces.is_some() {
+            return None;
+        }
+        if self.stop != StopReason::Converged {
+            let rule = match self.stop {
+                StopReason::ShotLimit => "the shot limit",
+                _ => "the time budget",
+            };
+            ws.stats.warnings.push(format!(
+                "the shots stopped at {rule} before converging: patches are gathered by \
+                 their means, without the {count} shaped gather(s) a converged solve makes"
+            ));
+            return None;
+        }
+        match Gathering::take_over(ws, b) {
+            Ok(gathering) => Some(gathering),
+            Err(e) => {
+                ws.stats.warnings.push(format!(
+                    "the converged shots were not handed to the gathering solver for the \
+                     shaped gathers ({e}): patches are gathered by their means"
+                ));
+                None
+            }
+        }
+    }
+
+    /// The mean row sum the shots implied.
+    fn implied_row_sum(&self) -> f64 {
+        if self.shots > 0 {
+            self.row_sum_total / self.shots as f64
+        } else {
+            0.0
+        }
+    }
+
+    /// Files the progressive figures in the solve's stats.
+    fn file_figures(&mut self, ws: &mut Workspace<'_>) {
+        let implied = self.implied_row_sum();
         let f = &mut self.figures;
         f.shots = self.shots;
         f.stop = self.stop;
         f.unshot_fraction = self.fraction;
         f.ambient = ambient_term(&ws.mesh, &self.state.unshot, &self.state.exposure);
-        f.mean_implied_row_sum = if self.shots > 0 {
-            self.row_sum_total / self.shots as f64
-        } else {
-            0.0
-        };
-        ws.stats.hemicube.mean_row_sum = f.mean_implied_row_sum;
-        ws.stats.hemicube.max_row_sum = f.max_implied_row_sum;
+        f.mean_implied_row_sum = implied;
         ws.stats.energy.truncated |= self.stop != StopReason::Converged;
-        ws.stats.warn();
         ws.stats.progressive = Some(std::mem::take(f));
-        ws.stats.seconds.total = ws.started.elapsed().as_secs_f64();
-        ws.into_solution(system)
     }
 }
 

@@ -45,10 +45,9 @@ impl Shooting<'_> {
                 &ws.form_factors,
                 &leaves,
             );
-        // The cache holds the entries now (or shots render them again).
-        for &k in &leaves {
-            ws.form_factors.release(k);
-        }
+        // The store keeps the rows beside the cache's transposed copy: the
+        // refinement's facing split reads them, as does the gathering solver
+        // that takes a converged solve over for its shaped gathers.
         (change, leaves.len())
     }
 

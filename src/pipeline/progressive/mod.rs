@@ -62,7 +62,7 @@ use cache::ShotCache;
 use newborn::{adopt, regather, settle};
 pub use preview::Preview;
 use receivers::Receivers;
-pub use settings::{ProgressiveSettings, SolverKind};
+pub use settings::{ProgressiveSettings, SolverKind, DEFAULT_UNSHOT_TOLERANCE};
 use shoot::Shooter;
 use state::ShootingState;
 use stopping::Stopping;

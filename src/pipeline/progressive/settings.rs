@@ -75,13 +75,20 @@ pub struct ProgressiveSettings {
     pub gather_rows: bool,
 }
 
+/// The default unshot tolerance ([`ProgressiveSettings::tolerance`]). A
+/// solve told to stop at a larger unshot fraction asks for an early,
+/// partial answer, and by default makes no shaped gathers (see
+/// [`Settings::shaped_gather_count`](crate::Settings::shaped_gather_count)):
+/// they would solve the patch system to the end first.
+pub const DEFAULT_UNSHOT_TOLERANCE: f64 = 1e-4;
+
 /// The deepest shooter cells allowed (`4^4 = 256` hemi-cubes per shot).
 pub(crate) const MAX_SHOOTER_DEPTH: u8 = 4;
 
 impl Default for ProgressiveSettings {
     fn default() -> Self {
         ProgressiveSettings {
-            tolerance: 1e-4,
+            tolerance: DEFAULT_UNSHOT_TOLERANCE,
             max_shots: None,
             time_budget: None,
             preview_every: None,
