@@ -33,8 +33,8 @@ pub use crate::scene::light_groups::{GroupPattern, GroupRule, LightGroup, LightG
 pub use solve::GROUP_TOLERANCE;
 
 use crate::error::{Error, Result};
-use crate::pipeline::SolverKind;
 use crate::pipeline::{solve_keeping_shapes, Progress, Settings};
+use crate::pipeline::{SolverKind, DEFAULT_UNSHOT_TOLERANCE};
 use crate::scene::Scene;
 use crate::solution::Solution;
 
@@ -44,23 +44,31 @@ use crate::solution::Solution;
 ///
 /// # Errors
 ///
-/// [`Error::Setting`] (named `light_groups`) for the progressive solver,
-/// whose form factors live in its shots rather than in rows a group could
-/// be gathered with, and when `groups` do not partition the scene's sources
-/// (see [`LightGroups::validate`]); any error of the solve.
+/// [`Error::Setting`] (named `light_groups`) for a progressive solve that
+/// may stop before it converges (a shot limit, a time budget, or an unshot
+/// tolerance above [`DEFAULT_UNSHOT_TOLERANCE`]): each group is solved to
+/// convergence on the refined mesh, so their sum would not be the solve it
+/// stands for; and when `groups` do not partition the scene's sources (see
+/// [`LightGroups::validate`]); any error of the solve.
 pub fn solve_with_light_groups(
     scene: &Scene,
     settings: &Settings,
     groups: &LightGroups,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<Solution> {
-    if settings.solver_kind == SolverKind::Progressive {
+    let p = &settings.progressive;
+    if settings.solver_kind == SolverKind::Progressive
+        && (p.max_shots.is_some()
+            || p.time_budget.is_some()
+            || p.tolerance > DEFAULT_UNSHOT_TOLERANCE)
+    {
         return Err(Error::Setting {
             name: "light_groups",
-            message: "light groups need the gathering solver (gauss-seidel): the progressive \
-                      solver keeps its form factors in its shots, not in rows each group \
-                      could be solved with"
-                .to_string(),
+            message: format!(
+                "light groups solve each group to convergence on the refined mesh, so the \
+                 progressive solve they split must converge too: no shot limit or time \
+                 budget, and an unshot tolerance of at most {DEFAULT_UNSHOT_TOLERANCE:e}"
+            ),
         });
     }
     groups.validate(scene)?;

@@ -75,18 +75,32 @@ pub fn solve_with_previews(
     }
 }
 
-/// Solves `scene` like [`solve`] with the gathering solver, keeping the last
-/// shaped gather's factors in the solution for its light groups (see
-/// [`crate::light_groups`]).
+/// Solves `scene` like [`solve`], keeping the last shaped gather's factors
+/// in the solution for its light groups (see [`crate::light_groups`]). The
+/// progressive solver's shaped gathers are the gathering solver's, made
+/// once the shots have converged.
 pub(crate) fn solve_keeping_shapes(
     scene: &Scene,
     settings: &Settings,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<Solution> {
     let mut ws = Workspace::prepare(scene, settings, progress)?;
-    let mut solver = Gathering::start(&mut ws)?;
-    solver.keep_shapes = true;
-    drive(ws, solver)
+    match settings.solver_kind {
+        SolverKind::GaussSeidel => match Gathering::start(&mut ws) {
+            Ok(mut solver) => {
+                solver.keep_shapes = true;
+                drive(ws, solver)
+            }
+            Err(e) => Err(ws.explain(e)),
+        },
+        SolverKind::Progressive => match Shooting::start(&mut ws, None) {
+            Ok(mut solver) => {
+                solver.keep_shapes = true;
+                drive(ws, solver)
+            }
+            Err(e) => Err(ws.explain(e)),
+        },
+    }
 }
 
 /// Runs `solver` to the end: refinement passes whenever it asks for one.

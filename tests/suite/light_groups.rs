@@ -8,7 +8,7 @@ use radiosity::light_groups::{
     solve_with_light_groups, GroupPattern, GroupRule, LightGroups, GROUP_TOLERANCE,
 };
 use radiosity::math::Rgb;
-use radiosity::pipeline::{SolverKind, SolverSettings};
+use radiosity::pipeline::{ProgressiveSettings, SolverKind, SolverSettings};
 use radiosity::refine::RefineSettings;
 use radiosity::scene::{Light, Scene, SceneBuilder, Texture, Wrap};
 use radiosity::{Error, Settings, Solution};
@@ -212,25 +212,61 @@ fn groups_that_leave_a_source_out_are_refused() {
 }
 
 #[test]
-fn the_progressive_solver_is_refused_before_any_work() {
+fn a_progressive_solve_that_may_stop_early_is_refused_before_any_work() {
+    // Each group is solved to convergence: a shot limit, a time budget or a
+    // loose unshot tolerance would leave the groups adding up to another
+    // solve than the one asked for.
     let scene = room();
-    let settings = Settings {
-        solver_kind: SolverKind::Progressive,
-        ..settings()
-    };
-    let e = solve_with_light_groups(&scene, &settings, &LightGroups::each(&scene), &|_| {})
-        .unwrap_err();
-    assert!(e.to_string().contains("gathering solver"), "{e}");
+    let bounded = [
+        ProgressiveSettings {
+            max_shots: Some(10),
+            ..ProgressiveSettings::default()
+        },
+        ProgressiveSettings {
+            time_budget: Some(std::time::Duration::from_secs(60)),
+            ..ProgressiveSettings::default()
+        },
+        ProgressiveSettings {
+            tolerance: 0.01,
+            ..ProgressiveSettings::default()
+        },
+    ];
+    for progressive in bounded {
+        let settings = Settings {
+            solver_kind: SolverKind::Progressive,
+            progressive,
+            ..settings()
+        };
+        let e = solve_with_light_groups(&scene, &settings, &LightGroups::each(&scene), &|_| {})
+            .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                radiosity::Error::Setting {
+                    name: "light_groups",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+    }
 }
 
 #[test]
 fn without_shaped_gathers_groups_add_up_to_the_solve_with_every_light_on() {
+    for kind in [SolverKind::GaussSeidel, SolverKind::Progressive] {
+        groups_add_up_without_shaped_gathers(kind);
+    }
+}
+
+fn groups_add_up_without_shaped_gathers(kind: SolverKind) {
     // Adaptive refinement, as by default: the two solves refine the same
     // mesh (the same input and seed), so one group holding every source is
     // the solve with every light on.
     let scene = room();
     let settings = Settings {
         shaped_gathers: Some(0),
+        solver_kind: kind,
         ..settings()
     };
     let mut each =

@@ -211,7 +211,10 @@ impl Shooting<'_> {
             return None;
         }
         match Gathering::take_over(ws, b) {
-            Ok(gathering) => Some(gathering),
+            Ok(mut gathering) => {
+                gathering.keep_shapes = self.keep_shapes;
+                Some(gathering)
+            }
             Err(e) => {
                 ws.stats.warnings.push(format!(
                     "the converged shots were not handed to the gathering solver for the \
@@ -285,6 +288,7 @@ impl<'p> Shooting<'p> {
             next_history: fraction,
             final_pass: None,
             last_pass_split: None,
+            keep_shapes: false,
             stop: StopReason::default(),
         })
     }

@@ -98,6 +98,9 @@ pub(crate) struct Shooting<'p> {
     initial_fraction: f64,
     last_pass_fraction: f64,
     next_history: f64,
+    /// Keep the shaped gathers' factors in the solution (for light groups;
+    /// see `Gathering::keep_shapes`).
+    pub(crate) keep_shapes: bool,
     /// The stopping rule that asked for one more refinement pass.
     final_pass: Option<StopReason>,
     /// Whether the refinement pass just run split anything (`None` until
