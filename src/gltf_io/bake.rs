@@ -71,6 +71,37 @@ struct Group {
     triangles: Vec<usize>,
 }
 
+/// A vertex colour that clipping to 1 cuts by more than this factor (half a
+/// stop) shows its texture visibly darker and flatter than `render` does.
+/// A little clipping is common (a texture of mean 0.5 whose floor is shown
+/// brighter than 0.5) and costs little; a viewer that loses half a stop and
+/// more over a material shows it wrong.
+const FAR_CLIPPED: f64 = std::f64::consts::SQRT_2;
+
+/// The largest share of a textured material's vertices that may be clipped
+/// by more than [`FAR_CLIPPED`] for its texture to be kept: beyond it the
+/// material is baked untextured, each vertex in its display colour (the
+/// elements carry their own texture means), which trades the texture's
+/// detail within elements for the right light. (A voxel knight under an
+/// overcast sky clipped 7 533 of its 12 401 textured vertices.)
+const MAX_CLIPPED_SHARE: f64 = 0.02;
+
+/// Per material, the vertices of its primitives in `baked` clipped by more
+/// than [`FAR_CLIPPED`], and all its vertices.
+fn clipping_textures(
+    materials: usize,
+    primitives: &[Vec<Group>],
+    baked: &[Vec<Baked>],
+) -> Vec<(usize, usize)> {
+    let mut out = vec![(0, 0); materials];
+    for (g, b) in primitives.iter().flatten().zip(baked.iter().flatten()) {
+        let m = &mut out[g.material as usize];
+        m.0 += b.far_clipped;
+        m.1 += b.positions.len();
+    }
+    out
+}
+
 /// One primitive's vertex data.
 struct Baked {
     positions: Vec<[f32; 3]>,
@@ -84,6 +115,8 @@ struct Baked {
     indices: Vec<u32>,
     /// Vertices whose display colour was clipped to 1.
     clipped: usize,
+    /// Vertices clipped by more than [`FAR_CLIPPED`].
+    far_clipped: usize,
 }
 
 /// Writes a solved scene as glTF 2.0: the crack-free display mesh `shading`
@@ -106,7 +139,9 @@ struct Baked {
 ///   radiance over the mean reflectance, so that texel times colour shows
 ///   the texture's detail around it (where that would exceed 1 it is
 ///   clipped, counted in a warning). Textured materials that emit are baked
-///   untextured.
+///   untextured, as are those that would be clipped by more than half a
+///   stop at more than [`MAX_CLIPPED_SHARE`] of their vertices (with a
+///   warning naming them).
 /// - Light group `k` is the attribute `_GROUP_k`: its radiosity per vertex
 ///   (its irradiance on kept textures) divided by its scale, a power of two;
 ///   `asset.extras.radiosity` lists the groups' names, attributes and scales,
@@ -173,20 +208,37 @@ pub(crate) fn stage_baked(
         gain: exposure.exp2(),
         tone: options.tone,
     };
-    let kept = kept_textures(scene, shading);
+    let mut kept = kept_textures(scene, shading);
     let primitives = group_triangles(scene, shading);
-    let baked: Vec<Vec<Baked>> = primitives
-        .iter()
-        .map(|object| {
-            object
-                .iter()
-                .map(|g| {
-                    let texture = kept[g.material as usize].as_ref();
-                    bake_primitive(scene, shading, groups, display, g, texture)
-                })
-                .collect()
-        })
-        .collect();
+    let bake_all = |kept: &[Option<Arc<Texture>>]| -> Vec<Vec<Baked>> {
+        primitives
+            .iter()
+            .map(|object| {
+                object
+                    .iter()
+                    .map(|g| {
+                        let texture = kept[g.material as usize].as_ref();
+                        bake_primitive(scene, shading, groups, display, g, texture)
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let mut baked = bake_all(&kept);
+    let too_bright = clipping_textures(scene.materials.len(), &primitives, &baked);
+    let mut dropped = Vec::new();
+    for (m, (clipped, vertices)) in too_bright.into_iter().enumerate() {
+        if kept[m].is_some() && clipped as f64 > MAX_CLIPPED_SHARE * vertices as f64 {
+            kept[m] = None;
+            dropped.push(format!(
+                "'{}' ({clipped} of {vertices} vertices by more than half a stop)",
+                scene.materials[m].name
+            ));
+        }
+    }
+    if !dropped.is_empty() {
+        baked = bake_all(&kept);
+    }
     let mut group_writer = GroupWriter::new(groups, baked.iter().flatten().map(|b| &b.groups));
 
     let mut root = new_root();
@@ -270,6 +322,18 @@ pub(crate) fn stage_baked(
         "/asset/extras/radiosity".to_string(),
         description(&group_writer, exposure, options.tone),
     ));
+    if !dropped.is_empty() {
+        summary.warnings.push(format!(
+            "{} textured materials are lit brighter than their textures can show in \
+             COLOR_0 at exposure {exposure:.2} (a viewer draws texel times colour, each at \
+             most 1), by more than half a stop at more than {}% of their vertices: baked \
+             without their textures, \
+             each element in its own colour: {}",
+            dropped.len(),
+            100.0 * MAX_CLIPPED_SHARE,
+            dropped.join(", ")
+        ));
+    }
     if clipped > 0 {
         summary.warnings.push(format!(
             "{clipped} vertices on textured materials are brighter than their texture can \
@@ -396,6 +460,7 @@ fn bake_primitive(
         texcoords: texels.map(|_| Vec::new()),
         indices: Vec::with_capacity(3 * g.triangles.len()),
         clipped: 0,
+        far_clipped: 0,
     };
     for &t in &g.triangles {
         for v in shading.triangles[t] {
@@ -410,9 +475,10 @@ fn bake_primitive(
                             let light = group.shading.texels.as_ref().map(|t| t.irradiance[i]);
                             values.push(light.unwrap_or(Rgb::ZERO).max(Rgb::ZERO));
                         }
-                        let (c, clipped) =
+                        let (c, largest) =
                             display.of_irradiance(x.irradiance[i], material.reflectance);
-                        out.clipped += usize::from(clipped);
+                        out.clipped += usize::from(largest > 1.0);
+                        out.far_clipped += usize::from(largest > FAR_CLIPPED);
                         c
                     }
                     _ => {

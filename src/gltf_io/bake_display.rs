@@ -37,19 +37,20 @@ impl Display {
     /// mean reflectance `mean`: the display value of the mean texel's
     /// radiance over `mean`, per band, so that the viewer's texel times
     /// colour is the tone-mapped mean scaled by the texel's contrast. Returns
-    /// the colour and whether a band had to be clipped to 1.
-    pub(super) fn of_irradiance(&self, h: Rgb, mean: Rgb) -> (Rgb, bool) {
+    /// the colour and its largest band before clipping to 1 (above 1 where
+    /// a band was clipped).
+    pub(super) fn of_irradiance(&self, h: Rgb, mean: Rgb) -> (Rgb, f64) {
         let shown = self.tone.apply(mean * h * (self.gain / PI));
-        let mut clipped = false;
+        let mut largest: f64 = 0.0;
         let colour = Rgb([0, 1, 2].map(|k| {
             if mean[k] <= 0.0 {
                 return 0.0;
             }
             let c = shown[k] / mean[k];
-            clipped |= c > 1.0;
+            largest = largest.max(c);
             c.min(1.0)
         }));
-        (colour, clipped)
+        (colour, largest)
     }
 }
 
@@ -185,10 +186,12 @@ mod tests {
         };
         // Mean reflectance 0.5, irradiance 1: radiance 0.5 shown as 0.5, so
         // the colour is 1 and the mean texel times it shows 0.5.
-        let (c, clipped) = display.of_irradiance(Rgb::ONE, Rgb::splat(0.5));
+        let (c, largest) = display.of_irradiance(Rgb::ONE, Rgb::splat(0.5));
+        let clipped = largest > 1.0;
         assert_eq!(c, Rgb::ONE);
         assert!(!clipped);
-        let (c, clipped) = display.of_irradiance(Rgb::splat(3.0), Rgb::new(0.5, 0.25, 0.0));
+        let (c, largest) = display.of_irradiance(Rgb::splat(3.0), Rgb::new(0.5, 0.25, 0.0));
+        let clipped = largest > 1.0;
         assert_eq!(c, Rgb::new(1.0, 1.0, 0.0));
         assert!(clipped);
     }

@@ -267,3 +267,58 @@ fn khr_texture_transform_scale_2_makes_4x4_checks() {
     let bright = |x: f64, z: f64| ((x / 0.5).floor() as i64 + (z / 0.5).floor() as i64) % 2 == 1;
     assert_checks(&leaves, bright);
 }
+
+#[test]
+fn a_texture_its_light_would_clip_at_most_vertices_is_baked_untextured_and_named() {
+    // A viewer draws texel times COLOR_0, each at most 1: where the display
+    // value of the mean texel exceeds the mean reflectance (0.5 here), the
+    // colour clips. At the automatic exposure the floor shows in mid grey
+    // and keeps its checker; eight stops brighter nearly every vertex would
+    // clip, so the floor is baked in its own colours, untextured, and the
+    // warning names it.
+    use radiosity::gltf_io::{write_baked, BakeOptions};
+    let scene = checkered_floor(true);
+    let sol = solve(&scene, &uniform(1.0, 2, SolverKind::GaussSeidel));
+    let shading = sol.shading_mesh();
+    let dir = std::env::temp_dir().join(format!("radiosity-clip-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bake = |exposure: Option<f64>, file: &str| {
+        let path = dir.join(file);
+        let options = BakeOptions {
+            exposure,
+            ..BakeOptions::default()
+        };
+        let summary = write_baked(&scene, &shading, &[], &options, &path).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let textured = json["materials"][0]["pbrMetallicRoughness"]
+            .get("baseColorTexture")
+            .is_some();
+        (summary, textured)
+    };
+    let (normal, textured) = bake(None, "auto.gltf");
+    assert!(
+        textured,
+        "at the automatic exposure the checker is kept: {:?}",
+        normal.warnings
+    );
+    assert!(
+        normal
+            .warnings
+            .iter()
+            .all(|w| !w.contains("without their textures")),
+        "{:?}",
+        normal.warnings
+    );
+    let (bright, textured) = bake(Some(normal.exposure + 8.0), "bright.gltf");
+    assert!(!textured, "the clipped checker must not be kept");
+    assert!(
+        bright
+            .warnings
+            .iter()
+            .any(|w| w.contains("without their textures") && w.contains("'floor'")),
+        "{:?}",
+        bright.warnings
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
