@@ -41,8 +41,13 @@ pub enum Error {
     },
     /// Geometry that cannot be used: non-finite coordinates, a non-planar or
     /// non-convex polygon handed to the builder, a scene with no surfaces.
-    #[error("geometry: {0}")]
-    Geometry(String),
+    #[error("geometry: {message}")]
+    Geometry {
+        /// What kind of fault.
+        fault: GeometryFault,
+        /// What is wrong, naming the surface, polygon, point or scene.
+        message: String,
+    },
     /// A punctual light with a value outside its range (negative or
     /// non-finite intensity, colour or range, cone angles out of order).
     #[error("light {light}: {message}")]
@@ -53,8 +58,17 @@ pub enum Error {
         message: String,
     },
     /// Nothing in the scene gives light, so the solution would be black.
-    #[error("{0}")]
-    NoLight(String),
+    #[error("{message}")]
+    NoLight {
+        /// The scene's name.
+        scene: String,
+        /// The names of the scene's punctual lights, which all have intensity
+        /// or colour 0 (empty when the scene has none).
+        dark_lights: Vec<String>,
+        /// The whole message: what would give light, naming (some of) the
+        /// dark lights.
+        message: String,
+    },
     /// A setting is out of its range.
     #[error("setting `{name}`: {message}")]
     Setting {
@@ -74,8 +88,13 @@ pub enum Error {
         message: String,
     },
     /// The solver could not converge, or met a numerically unusable system.
-    #[error("solver: {0}")]
-    Solver(String),
+    #[error("solver: {message}")]
+    Solver {
+        /// What kind of fault.
+        fault: SolverFault,
+        /// What went wrong, with the figures that show it.
+        message: String,
+    },
     /// An output could not be encoded.
     #[error("output {path}: {message}")]
     Output {
@@ -151,6 +170,58 @@ pub enum LimitKind {
     QuadratureCells,
 }
 
+/// The kinds of fault an [`Error::Geometry`] names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum GeometryFault {
+    /// A coordinate, normal, point or value that is not finite.
+    NonFinite,
+    /// A polygon with too few vertices, zero area, a zero-length edge or a
+    /// normal of no direction.
+    Degenerate,
+    /// A quad (or polygon) whose vertices do not lie in one plane.
+    NonPlanar,
+    /// A polygon that is not (strictly) convex.
+    NonConvex,
+    /// A value outside its range: a coordinate beyond the largest the solver
+    /// represents, a length or area that must be finite and positive.
+    OutOfRange,
+    /// A scene with no surfaces (or no triangles, or no floor where one is
+    /// needed).
+    NoSurfaces,
+    /// Surfaces of different materials that overlap in one plane, refused.
+    Overlap,
+    /// Inputs that do not belong together: counts that disagree, an index
+    /// (of a material, object, surface or vertex) out of range, a reference
+    /// that lists other objects, a point on no surface.
+    Mismatch,
+    /// Input this code does not take: more occluders than an oracle takes, a
+    /// polygon of more than 4 vertices where only triangles and quads are.
+    Unsupported,
+}
+
+/// The kinds of fault an [`Error::Solver`] names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum SolverFault {
+    /// Reflectance times form-factor row sum above the allowed contraction:
+    /// light would grow without bound, or the system is too close to
+    /// singular.
+    Unbounded,
+    /// A value that is not a number (or not finite) in the system or in an
+    /// integrand.
+    NotANumber,
+    /// The iteration diverged: its residual or solution stopped being finite.
+    Diverged,
+    /// The iteration reached its sweep limit before its tolerance.
+    NotConverged,
+    /// A direct system that is singular.
+    Singular,
+    /// A state that should not occur, such as the kept shaped gather held
+    /// elsewhere.
+    Internal,
+}
+
 /// The library's result type.
 pub type Result<T> = std::result::Result<T, Error>;
 
@@ -186,6 +257,16 @@ impl Error {
     /// An [`Error::Limit`] of `limit`.
     pub(crate) fn limit(limit: LimitKind, message: String) -> Self {
         Error::Limit { limit, message }
+    }
+
+    /// An [`Error::Geometry`] of `fault`.
+    pub(crate) fn geometry(fault: GeometryFault, message: String) -> Self {
+        Error::Geometry { fault, message }
+    }
+
+    /// An [`Error::Solver`] of `fault`.
+    pub(crate) fn solver(fault: SolverFault, message: String) -> Self {
+        Error::Solver { fault, message }
     }
 
     /// An I/O error for `path`.

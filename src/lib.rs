@@ -106,7 +106,7 @@ pub mod report;
 pub mod scene;
 pub mod scenes;
 
-pub use error::{Error, GltfKind, GltfObject, LimitKind, Result};
+pub use error::{Error, GeometryFault, GltfKind, GltfObject, LimitKind, Result, SolverFault};
 pub mod formfactor;
 pub mod mesh;
 pub mod pipeline;

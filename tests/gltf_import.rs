@@ -6,7 +6,7 @@ use glam::DVec3;
 use radiosity::gltf_io::{load_scene, load_scene_with, ImportLimits, LoadOptions};
 use radiosity::scene::Overlaps;
 use radiosity::scene::Scene;
-use radiosity::{Error, GltfKind, GltfObject, LimitKind};
+use radiosity::{Error, GeometryFault, GltfKind, GltfObject, LimitKind};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -817,7 +817,13 @@ fn a_file_without_surfaces_is_a_geometry_error() {
         &json!({"asset": {"version": "2.0"}, "nodes": [{"name": "lonely"}]}),
     );
     let e = error_naming(&path, "no surfaces");
-    assert!(matches!(e, Error::Geometry(_)));
+    assert!(matches!(
+        e,
+        Error::Geometry {
+            fault: GeometryFault::NoSurfaces,
+            ..
+        }
+    ));
 }
 
 #[test]
@@ -1101,7 +1107,11 @@ fn a_file_without_light_is_refused_before_any_form_factor_and_punctual_lights_co
     let scene = load(&write("dark.gltf", &doc)).unwrap();
     assert!(!scene.has_light());
     let e = scene.check_light().unwrap_err();
-    assert!(matches!(e, Error::NoLight(_)), "{e}");
+    assert!(
+        matches!(&e, Error::NoLight { scene, dark_lights, .. }
+            if scene == "dark" && dark_lights.is_empty()),
+        "{e}"
+    );
     assert!(
         e.to_string().contains("no light") && e.to_string().contains("'dark'"),
         "{e}"
@@ -1115,7 +1125,7 @@ fn a_file_without_light_is_refused_before_any_form_factor_and_punctual_lights_co
         panic!("no progress may be reported for a scene without light")
     })
     .unwrap_err();
-    assert!(matches!(e, Error::NoLight(_)), "{e}");
+    assert!(matches!(e, Error::NoLight { .. }), "{e}");
     // Lights the file defines but no node places give no light, and are
     // named in a warning; a placed light of intensity 0 is named by the
     // refusal.
@@ -1139,7 +1149,13 @@ fn a_file_without_light_is_refused_before_any_form_factor_and_punctual_lights_co
     doc["scenes"] = json!([{"nodes": [0, 1]}]);
     let scene = load(&write("punctual_dim.gltf", &doc)).unwrap();
     assert_eq!(scene.import_stats.punctual_lights, 1);
-    let e = scene.check_light().unwrap_err().to_string();
+    let e = scene.check_light().unwrap_err();
+    assert!(
+        matches!(&e, Error::NoLight { dark_lights, .. }
+            if dark_lights.len() == 1 && dark_lights[0].contains("dim")),
+        "{e}"
+    );
+    let e = e.to_string();
     assert!(
         e.contains("'dim'") && e.contains("intensity or colour 0"),
         "{e}"

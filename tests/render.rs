@@ -8,7 +8,7 @@ use radiosity::render::{
     HdrImage, ShadedMesh, ToneMap,
 };
 use radiosity::scene::Camera;
-use radiosity::Error;
+use radiosity::{Error, GeometryFault};
 use std::path::PathBuf;
 
 /// At the origin, looking down -Z with +Y up: view axes are world axes.
@@ -349,7 +349,10 @@ fn bad_input_is_an_error_not_a_panic() {
     mesh.triangles.push([0, 1, 9]);
     assert!(matches!(
         render(&mesh, &camera(60.0), 8, 8),
-        Err(Error::Geometry(_))
+        Err(Error::Geometry {
+            fault: GeometryFault::Mismatch,
+            ..
+        })
     ));
     let mesh = square_at(3.0, 1.0, Rgb::ONE);
     assert!(render(&mesh, &camera(60.0), 0, 8).is_err());

@@ -11,7 +11,7 @@
 //! an edge passes level with the apex).
 
 use super::lambert::check_polygon;
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::{clip_to_halfspace, is_convex, newell_normal};
 use glam::DVec3;
 use smallvec::SmallVec;
@@ -46,7 +46,10 @@ pub fn clip_to_cone(subject: &[DVec3], apex: DVec3, clip: &[DVec3]) -> Result<Cl
     check_polygon("subject polygon", subject)?;
     check_convex("clip polygon", clip)?;
     if !apex.is_finite() {
-        return Err(Error::Geometry(format!("cone apex {apex} is not finite")));
+        return Err(Error::geometry(
+            GeometryFault::NonFinite,
+            format!("cone apex {apex} is not finite"),
+        ));
     }
     Ok(intersect_with_cone(subject, apex, clip))
 }
@@ -55,9 +58,10 @@ fn check_convex(what: &str, polygon: &[DVec3]) -> Result<()> {
     check_polygon(what, polygon)?;
     let n = newell_normal(polygon);
     if !is_convex(polygon, n) {
-        return Err(Error::Geometry(format!(
-            "{what} is not strictly convex (or has repeated vertices)"
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NonConvex,
+            format!("{what} is not strictly convex (or has repeated vertices)"),
+        ));
     }
     Ok(())
 }

@@ -8,7 +8,7 @@
 //! resolution grows.
 
 use super::rectangles::{parallel_ratios, perpendicular_ratios};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SolverFault};
 use glam::DVec3;
 
 /// The six faces of the unit cube `[0, 1]^3` (Y up), in the order used by every
@@ -152,11 +152,14 @@ fn solve_dense<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Result<
             .unwrap_or(col);
         let pivot = a[pivot_row][col];
         if pivot.is_nan() || pivot.abs() <= 1e-13 * scale {
-            return Err(Error::Solver(format!(
-                "the {N} x {N} system is singular (pivot {:.3e} in column {col}); \
+            return Err(Error::solver(
+                SolverFault::Singular,
+                format!(
+                    "the {N} x {N} system is singular (pivot {:.3e} in column {col}); \
                  a closed scene whose reflectance is 1 everywhere has no finite solution",
-                pivot
-            )));
+                    pivot
+                ),
+            ));
         }
         a.swap(col, pivot_row);
         b.swap(col, pivot_row);
@@ -214,7 +217,13 @@ mod tests {
 
     #[test]
     fn reflectance_one_everywhere_is_singular() {
-        assert!(matches!(unit_cube_ceiling_lit(1.0), Err(Error::Solver(_))));
+        assert!(matches!(
+            unit_cube_ceiling_lit(1.0),
+            Err(Error::Solver {
+                fault: SolverFault::Singular,
+                ..
+            })
+        ));
         assert!(matches!(
             unit_cube_ceiling_lit(1.2),
             Err(Error::Material { .. })

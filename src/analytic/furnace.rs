@@ -6,7 +6,7 @@
 //! `sum_i A_i B_i = sum_i A_i E_i / (1 - rho)`. If the emission is uniform too
 //! (the furnace), the solution itself is uniform: `B = E / (1 - rho)`.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 
 /// The radiosity everywhere in a closed enclosure whose surfaces all have the
 /// same reflectance `reflectance` and emitted exitance `emission`:
@@ -28,16 +28,25 @@ pub fn furnace_radiosity(emission: f64, reflectance: f64) -> Result<f64> {
 pub fn enclosure_mean_radiosity(areas: &[f64], emission: &[f64], reflectance: f64) -> Result<f64> {
     check_reflectance(reflectance)?;
     if areas.is_empty() || areas.len() != emission.len() {
-        return Err(Error::Geometry(format!(
-            "enclosure needs one area per emission value and at least one surface, got {} areas and {} emissions",
-            areas.len(),
-            emission.len()
-        )));
+        let fault = if areas.len() == emission.len() {
+            GeometryFault::NoSurfaces
+        } else {
+            GeometryFault::Mismatch
+        };
+        return Err(Error::geometry(
+            fault,
+            format!(
+                "enclosure needs one area per emission value and at least one surface, got {} areas and {} emissions",
+                areas.len(),
+                emission.len()
+            ),
+        ));
     }
     if let Some(a) = areas.iter().find(|a| !(a.is_finite() && **a > 0.0)) {
-        return Err(Error::Geometry(format!(
-            "enclosure surface area {a} is not finite and positive"
-        )));
+        return Err(Error::geometry(
+            GeometryFault::OutOfRange,
+            format!("enclosure surface area {a} is not finite and positive"),
+        ));
     }
     for e in emission {
         check_emission(*e)?;

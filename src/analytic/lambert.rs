@@ -11,7 +11,7 @@
 //! where `cos(theta_p) >= 0`: the polygon must first be clipped to the horizon,
 //! otherwise the part below it counts negatively.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::{clip_to_halfspace, planarity_error};
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -39,14 +39,21 @@ pub fn point_to_polygon(point: DVec3, normal: DVec3, polygon: &[DVec3]) -> Resul
 /// Checks a receiving point and returns its unit normal.
 pub(crate) fn checked_receiver(point: DVec3, normal: DVec3) -> Result<DVec3> {
     if !point.is_finite() {
-        return Err(Error::Geometry(format!(
-            "receiving point {point} is not finite"
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NonFinite,
+            format!("receiving point {point} is not finite"),
+        ));
     }
     normal.try_normalize().ok_or_else(|| {
-        Error::Geometry(format!(
-            "receiver normal {normal} has no direction (zero or not finite)"
-        ))
+        let fault = if normal.is_finite() {
+            GeometryFault::Degenerate
+        } else {
+            GeometryFault::NonFinite
+        };
+        Error::geometry(
+            fault,
+            format!("receiver normal {normal} has no direction (zero or not finite)"),
+        )
     })
 }
 
@@ -54,21 +61,23 @@ pub(crate) fn checked_receiver(point: DVec3, normal: DVec3) -> Result<DVec3> {
 /// error names it by `what`.
 pub(crate) fn check_polygon(what: &str, polygon: &[DVec3]) -> Result<()> {
     if polygon.len() < 3 {
-        return Err(Error::Geometry(format!(
-            "{what} needs at least 3 vertices, got {}",
-            polygon.len()
-        )));
+        return Err(Error::geometry(
+            GeometryFault::Degenerate,
+            format!("{what} needs at least 3 vertices, got {}", polygon.len()),
+        ));
     }
     if let Some(v) = polygon.iter().find(|v| !v.is_finite()) {
-        return Err(Error::Geometry(format!(
-            "{what} has a non-finite vertex {v}"
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NonFinite,
+            format!("{what} has a non-finite vertex {v}"),
+        ));
     }
     let deviation = planarity_error(polygon);
     if deviation > PLANARITY_TOLERANCE {
-        return Err(Error::Geometry(format!(
-            "{what} is not planar (relative deviation {deviation:.2e})"
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NonPlanar,
+            format!("{what} is not planar (relative deviation {deviation:.2e})"),
+        ));
     }
     Ok(())
 }

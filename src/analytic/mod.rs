@@ -35,15 +35,16 @@ pub use penumbra::OccludedLight;
 pub use quadrature::{integrate_over_polygon, integrate_unit_square, Integral, QuadratureSettings};
 pub use rectangles::{parallel_rectangles, perpendicular_rectangles, point_to_rectangle_corner};
 
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 
 /// Checks that a length is finite and strictly positive; the error names it.
 fn positive_length(name: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::Geometry(format!(
-            "{name} must be a finite positive length, got {value}"
-        )))
+        Err(Error::geometry(
+            GeometryFault::OutOfRange,
+            format!("{name} must be a finite positive length, got {value}"),
+        ))
     }
 }

@@ -30,7 +30,7 @@
 
 use super::convex_clip::{intersect_with_cone, ClippedPolygon};
 use super::lambert::{check_polygon, checked_receiver, horizon_clipped_form_factor};
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::{clip_to_halfspace, is_convex, newell_normal};
 use glam::DVec3;
 
@@ -57,10 +57,13 @@ impl OccludedLight {
     pub fn new<P: AsRef<[DVec3]>>(light: &[DVec3], occluders: &[P]) -> Result<Self> {
         let light_normal = convex_normal("light", light)?;
         if occluders.len() > MAX_OCCLUDERS {
-            return Err(Error::Geometry(format!(
-                "{} occluders given, the exact penumbra oracle takes at most {MAX_OCCLUDERS}",
-                occluders.len()
-            )));
+            return Err(Error::geometry(
+                GeometryFault::Unsupported,
+                format!(
+                    "{} occluders given, the exact penumbra oracle takes at most {MAX_OCCLUDERS}",
+                    occluders.len()
+                ),
+            ));
         }
         for (k, o) in occluders.iter().enumerate() {
             convex_normal(&format!("occluder {k}"), o.as_ref())?;
@@ -172,12 +175,13 @@ fn convex_normal(what: &str, polygon: &[DVec3]) -> Result<DVec3> {
     check_polygon(what, polygon)?;
     let n = newell_normal(polygon);
     if !is_convex(polygon, n) {
-        return Err(Error::Geometry(format!(
-            "{what} is not strictly convex (or has repeated vertices)"
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NonConvex,
+            format!("{what} is not strictly convex (or has repeated vertices)"),
+        ));
     }
     n.try_normalize()
-        .ok_or_else(|| Error::Geometry(format!("{what} has zero area")))
+        .ok_or_else(|| Error::geometry(GeometryFault::Degenerate, format!("{what} has zero area")))
 }
 
 #[cfg(test)]

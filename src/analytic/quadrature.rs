@@ -11,7 +11,7 @@
 //! cells towards the curve only as far as the total error needs, instead of
 //! forcing every cell along it to a fixed local tolerance.
 
-use crate::error::{Error, LimitKind, Result};
+use crate::error::{Error, GeometryFault, LimitKind, Result, SolverFault};
 use crate::math::{is_convex, newell_normal, planarity_error};
 use glam::DVec3;
 use std::cmp::Ordering;
@@ -144,15 +144,24 @@ enum ElementMap {
 impl ElementMap {
     fn new(polygon: &[DVec3]) -> Result<Self> {
         if !(3..=4).contains(&polygon.len()) {
-            return Err(Error::Geometry(format!(
-                "quadrature needs a triangle or a quad, got {} vertices",
-                polygon.len()
-            )));
+            let fault = if polygon.len() < 3 {
+                GeometryFault::Degenerate
+            } else {
+                GeometryFault::Unsupported
+            };
+            return Err(Error::geometry(
+                fault,
+                format!(
+                    "quadrature needs a triangle or a quad, got {} vertices",
+                    polygon.len()
+                ),
+            ));
         }
         if let Some(v) = polygon.iter().find(|v| !v.is_finite()) {
-            return Err(Error::Geometry(format!(
-                "quadrature element has a non-finite vertex {v}"
-            )));
+            return Err(Error::geometry(
+                GeometryFault::NonFinite,
+                format!("quadrature element has a non-finite vertex {v}"),
+            ));
         }
         let normal = newell_normal(polygon);
         let diameter2 = polygon
@@ -160,17 +169,26 @@ impl ElementMap {
             .flat_map(|a| polygon.iter().map(move |b| (*a - *b).length_squared()))
             .fold(0.0, f64::max);
         if normal.length() <= 1e-12 * diameter2 {
-            return Err(Error::Geometry(format!(
-                "quadrature element {polygon:?} has zero area"
-            )));
+            return Err(Error::geometry(
+                GeometryFault::Degenerate,
+                format!("quadrature element {polygon:?} has zero area"),
+            ));
         }
         if polygon.len() == 3 {
             return Ok(ElementMap::Triangle([polygon[0], polygon[1], polygon[2]]));
         }
-        if planarity_error(polygon) > 1e-6 || !is_convex(polygon, normal) {
-            return Err(Error::Geometry(format!(
-                "quadrature element {polygon:?} is not a planar convex quad"
-            )));
+        let fault = if planarity_error(polygon) > 1e-6 {
+            Some(GeometryFault::NonPlanar)
+        } else if !is_convex(polygon, normal) {
+            Some(GeometryFault::NonConvex)
+        } else {
+            None
+        };
+        if let Some(fault) = fault {
+            return Err(Error::geometry(
+                fault,
+                format!("quadrature element {polygon:?} is not a planar convex quad"),
+            ));
         }
         Ok(ElementMap::Quad([
             polygon[0], polygon[1], polygon[2], polygon[3],
@@ -369,9 +387,10 @@ impl<'s, F: FnMut(f64, f64) -> f64> Adaptive<'s, F> {
                 let (u, v) = (u0 + side * nu, v0 + side * nv);
                 let value = (self.f)(u, v);
                 if !value.is_finite() {
-                    return Err(Error::Solver(format!(
-                        "quadrature integrand is {value} at parameters ({u}, {v})"
-                    )));
+                    return Err(Error::solver(
+                        SolverFault::NotANumber,
+                        format!("quadrature integrand is {value} at parameters ({u}, {v})"),
+                    ));
                 }
                 sum += wu * wv * value;
             }

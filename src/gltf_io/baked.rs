@@ -15,7 +15,7 @@ use super::primitives::{triangle_count, triangle_mode, triangles};
 use super::texture_use::texture_use;
 use super::textures::{Images, Unusable};
 use super::{describe, gltf_error};
-use crate::error::{Error, LimitKind, Result};
+use crate::error::{Error, GeometryFault, LimitKind, Result};
 use crate::math::Rgb;
 use crate::render::{ShadedMesh, Texels};
 use crate::scene::{Camera, Material};
@@ -147,10 +147,13 @@ pub fn load_baked(path: &Path, limits: &ImportLimits) -> Result<BakedScene> {
         }
     }
     if out.mesh.triangles.is_empty() {
-        return Err(Error::Geometry(format!(
-            "{}: the baked file has no triangles in any mesh of the scene's nodes",
-            path.display()
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NoSurfaces,
+            format!(
+                "{}: the baked file has no triangles in any mesh of the scene's nodes",
+                path.display()
+            ),
+        ));
     }
     if let Err(e) = out.mesh.validate() {
         return Err(gltf_error(path, e.to_string()));

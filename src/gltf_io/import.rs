@@ -12,7 +12,7 @@ use super::meshes::{add_mesh_instance, Decoded, Source};
 use super::nodes::walk;
 use super::options::LoadOptions;
 use super::textures::Images;
-use crate::error::{Error, GltfKind, GltfObject, Result};
+use crate::error::{Error, GeometryFault, GltfKind, GltfObject, Result};
 use crate::scene::{facing_warnings, Scene};
 use std::path::Path;
 
@@ -157,17 +157,20 @@ pub fn load_scene_with(path: &Path, limits: &ImportLimits, options: &LoadOptions
             .push(mask_warning(name, &masks[*material as usize], tally));
     }
     if scene.surfaces.is_empty() {
-        return Err(Error::Geometry(format!(
-            "{}: the scene has no surfaces (no usable triangles in any mesh of the scene's nodes)",
-            path.display()
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NoSurfaces,
+            format!(
+                "{}: the scene has no surfaces (no usable triangles in any mesh of the scene's nodes)",
+                path.display()
+            ),
+        ));
     }
     let facing = facing_warnings(&scene);
     scene.warnings.extend(facing);
     scene
         .resolve_overlaps(options.overlaps)
         .map_err(|e| match e {
-            Error::Geometry(m) => super::gltf_error(path, m),
+            Error::Geometry { message, .. } => super::gltf_error(path, message),
             other => other,
         })?;
     let far = scene.outlier_warning();

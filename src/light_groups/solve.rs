@@ -27,7 +27,7 @@
 //!   they add up to it exactly.
 //! - The solve's emission scale (a power of two) is exact.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SolverFault};
 use crate::formfactor::{FormFactors, Sources};
 use crate::math::Rgb;
 use crate::mesh::{ElementKey, Mesh};
@@ -82,7 +82,8 @@ pub(crate) fn solve_groups(
         None => None,
         Some(Ok(kept)) => Some(kept),
         Some(Err(_)) => {
-            return Err(Error::Solver(
+            return Err(Error::solver(
+                SolverFault::Internal,
                 "the shaped gather kept for the light groups is held elsewhere".to_string(),
             ))
         }

@@ -8,7 +8,7 @@ use super::row_groups::RowGroups;
 use super::scale::EmissionScale;
 use super::skips::{RowPlan, RowTally};
 use super::{Progress, Settings, SolveStats, Stage};
-use crate::error::{Error, LimitKind, Result};
+use crate::error::{Error, GeometryFault, LimitKind, Result};
 use crate::formfactor::{compute_rows_with, emitter_shifts, FormFactors, RowState, Sources};
 use crate::mesh::{ElementKey, Mesh};
 use crate::refine::{mark_facing, mark_for_split, Marks, SplitLimits, NEAR_SHARE};
@@ -62,10 +62,10 @@ impl<'a> Workspace<'a> {
     ) -> Result<Self> {
         settings.validate()?;
         if scene.surfaces.is_empty() {
-            return Err(Error::Geometry(format!(
-                "scene '{}' has no surfaces",
-                scene.name
-            )));
+            return Err(Error::geometry(
+                GeometryFault::NoSurfaces,
+                format!("scene '{}' has no surfaces", scene.name),
+            ));
         }
         scene.check_lights()?;
         scene.check_light()?;

@@ -121,7 +121,7 @@ pub use points::{sample_points, SurfacePoint, LOCATE_TOLERANCE};
 pub use settings::ReferenceSettings;
 pub use stats::ProbeEstimate;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::Rgb;
 use crate::scene::rays::{Accel, SurfaceGeometry, Tolerances};
 use crate::scene::Scene;
@@ -154,10 +154,10 @@ pub struct Reference {
 /// The reference's geometry of every surface, checked.
 fn scene_geometry(scene: &Scene) -> Result<Vec<SurfaceGeometry>> {
     if scene.surfaces.is_empty() {
-        return Err(Error::Geometry(format!(
-            "scene '{}' has no surfaces",
-            scene.name
-        )));
+        return Err(Error::geometry(
+            GeometryFault::NoSurfaces,
+            format!("scene '{}' has no surfaces", scene.name),
+        ));
     }
     scene
         .surfaces
@@ -181,18 +181,24 @@ impl Reference {
         let mut members = vec![Vec::new(); scene.objects.len()];
         for (i, s) in scene.surfaces.iter().enumerate() {
             let Some(m) = scene.materials.get(s.material as usize) else {
-                return Err(Error::Geometry(format!(
-                    "surface {i} refers to material {}, but the scene has {}",
-                    s.material,
-                    scene.materials.len()
-                )));
+                return Err(Error::geometry(
+                    GeometryFault::Mismatch,
+                    format!(
+                        "surface {i} refers to material {}, but the scene has {}",
+                        s.material,
+                        scene.materials.len()
+                    ),
+                ));
             };
             let Some(list) = members.get_mut(s.object as usize) else {
-                return Err(Error::Geometry(format!(
-                    "surface {i} refers to object {}, but the scene has {}",
-                    s.object,
-                    scene.objects.len()
-                )));
+                return Err(Error::geometry(
+                    GeometryFault::Mismatch,
+                    format!(
+                        "surface {i} refers to object {}, but the scene has {}",
+                        s.object,
+                        scene.objects.len()
+                    ),
+                ));
             };
             list.push(i as u32);
             shades.push(Shade::new(m, s, &geometry[i]));

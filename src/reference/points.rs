@@ -4,7 +4,7 @@
 use super::rng::{Domain, Rng};
 use super::sampling::Cdf;
 use super::Reference;
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::scene::rays::SurfaceGeometry;
 use crate::scene::Scene;
 use glam::DVec3;
@@ -41,8 +41,12 @@ const LOCATE_MIN_COSINE: f64 = 0.996_194_698_091_745_5;
 pub fn sample_points(scene: &Scene, count: usize, seed: u64) -> Result<Vec<SurfacePoint>> {
     let geometry = super::scene_geometry(scene)?;
     let areas: Vec<f64> = geometry.iter().map(|g| g.area).collect();
-    let cdf = Cdf::new(&areas)
-        .ok_or_else(|| Error::Geometry("the scene's total area is not positive".into()))?;
+    let cdf = Cdf::new(&areas).ok_or_else(|| {
+        Error::geometry(
+            GeometryFault::Degenerate,
+            "the scene's total area is not positive".into(),
+        )
+    })?;
     Ok((0..count)
         .map(|k| {
             let mut rng = Rng::for_stream(seed, Domain::SamplePoints, 0, k as u64);

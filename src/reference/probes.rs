@@ -3,7 +3,7 @@
 use super::rng::{Domain, Rng};
 use super::stats::{ProbeEstimate, RunningStats};
 use super::{Reference, ReferenceSettings, SurfacePoint, CHUNK_PATHS};
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -64,17 +64,20 @@ impl Reference {
         let mut starts = Vec::with_capacity(points.len());
         for (i, p) in points.iter().enumerate() {
             let Some(g) = self.geometry.get(p.surface as usize) else {
-                return Err(Error::Geometry(format!(
-                    "{kind} point {i} refers to surface {}, but the scene has {}",
-                    p.surface,
-                    self.geometry.len()
-                )));
+                return Err(Error::geometry(
+                    GeometryFault::Mismatch,
+                    format!(
+                        "{kind} point {i} refers to surface {}, but the scene has {}",
+                        p.surface,
+                        self.geometry.len()
+                    ),
+                ));
             };
             if !p.position.is_finite() {
-                return Err(Error::Geometry(format!(
-                    "{kind} point {i} has a non-finite position {}",
-                    p.position
-                )));
+                return Err(Error::geometry(
+                    GeometryFault::NonFinite,
+                    format!("{kind} point {i} has a non-finite position {}", p.position),
+                ));
             }
             starts.push((p.surface, g.project(p.position).1));
         }

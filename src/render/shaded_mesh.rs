@@ -4,7 +4,7 @@
 use crate::math::Rgb;
 use crate::mesh::ShadingMesh;
 use crate::scene::Material;
-use crate::{Error, Result};
+use crate::{Error, GeometryFault, Result};
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -92,47 +92,65 @@ impl ShadedMesh {
     /// first offending vertex or triangle.
     pub fn validate(&self) -> Result<()> {
         if self.values.len() != self.positions.len() {
-            return Err(Error::Geometry(format!(
-                "shaded mesh has {} positions but {} values",
-                self.positions.len(),
-                self.values.len()
-            )));
+            return Err(Error::geometry(
+                GeometryFault::Mismatch,
+                format!(
+                    "shaded mesh has {} positions but {} values",
+                    self.positions.len(),
+                    self.values.len()
+                ),
+            ));
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(Error::Geometry(format!(
-                "shaded mesh vertex {i} has a non-finite position {}",
-                self.positions[i]
-            )));
+            return Err(Error::geometry(
+                GeometryFault::NonFinite,
+                format!(
+                    "shaded mesh vertex {i} has a non-finite position {}",
+                    self.positions[i]
+                ),
+            ));
         }
         if let Some(i) = self.values.iter().position(|v| !v.is_finite()) {
-            return Err(Error::Geometry(format!(
-                "shaded mesh vertex {i} has a non-finite value {:?}",
-                self.values[i].0
-            )));
+            return Err(Error::geometry(
+                GeometryFault::NonFinite,
+                format!(
+                    "shaded mesh vertex {i} has a non-finite value {:?}",
+                    self.values[i].0
+                ),
+            ));
         }
         let n = self.positions.len();
         for (t, tri) in self.triangles.iter().enumerate() {
             if let Some(&bad) = tri.iter().find(|&&i| i as usize >= n) {
-                return Err(Error::Geometry(format!(
-                    "shaded mesh triangle {t} refers to vertex {bad}, but there are only {n}"
-                )));
+                return Err(Error::geometry(
+                    GeometryFault::Mismatch,
+                    format!(
+                        "shaded mesh triangle {t} refers to vertex {bad}, but there are only {n}"
+                    ),
+                ));
             }
         }
         if let Some(t) = &self.texels {
             if t.uv.len() != n || t.materials.len() != self.triangles.len() {
-                return Err(Error::Geometry(format!(
-                    "shaded mesh has {n} positions and {} triangles but {} texture \
+                return Err(Error::geometry(
+                    GeometryFault::Mismatch,
+                    format!(
+                        "shaded mesh has {n} positions and {} triangles but {} texture \
                      coordinates and {} triangle materials",
-                    self.triangles.len(),
-                    t.uv.len(),
-                    t.materials.len()
-                )));
+                        self.triangles.len(),
+                        t.uv.len(),
+                        t.materials.len()
+                    ),
+                ));
             }
             if let Some(i) = t.uv.iter().position(|p| !p.is_finite()) {
-                return Err(Error::Geometry(format!(
-                    "shaded mesh vertex {i} has non-finite texture coordinates {}",
-                    t.uv[i]
-                )));
+                return Err(Error::geometry(
+                    GeometryFault::NonFinite,
+                    format!(
+                        "shaded mesh vertex {i} has non-finite texture coordinates {}",
+                        t.uv[i]
+                    ),
+                ));
             }
         }
         Ok(())

@@ -1,7 +1,7 @@
 //! Relative errors of a solution at the reference points.
 
 use super::ReferencePoints;
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::Rgb;
 use crate::solution::Solution;
 use serde::Serialize;
@@ -89,10 +89,13 @@ pub fn point_errors(solution: &Solution, reference: &ReferencePoints) -> Result<
         .enumerate()
         .map(|(i, p)| {
             let b = probe.radiosity_at(p.position, p.normal).ok_or_else(|| {
-                Error::Geometry(format!(
-                    "reference point {i} at {} (surface {}) lies on no surface of the solution",
-                    p.position, p.surface
-                ))
+                Error::geometry(
+                    GeometryFault::Mismatch,
+                    format!(
+                        "reference point {i} at {} (surface {}) lies on no surface of the solution",
+                        p.position, p.surface
+                    ),
+                )
             })?;
             let difference = b - p.radiosity;
             let band = |k: usize| {

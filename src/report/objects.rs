@@ -1,7 +1,7 @@
 //! Per-object mean radiosity errors against the Monte Carlo object means.
 
 use super::ERROR_FLOOR_FRACTION;
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::Rgb;
 use crate::reference::{Reference, ReferenceSettings};
 use crate::scene::Scene;
@@ -74,12 +74,15 @@ pub(crate) fn object_errors(
     let names_match = solved.len() == reference.len()
         && solved.iter().zip(reference).all(|(s, r)| s.name == r.name);
     if !names_match {
-        return Err(Error::Geometry(format!(
-            "the object reference lists {} objects, scene '{}' has {} (or names differ)",
-            reference.len(),
-            scene.name,
-            solved.len()
-        )));
+        return Err(Error::geometry(
+            GeometryFault::Mismatch,
+            format!(
+                "the object reference lists {} objects, scene '{}' has {} (or names differ)",
+                reference.len(),
+                scene.name,
+                solved.len()
+            ),
+        ));
     }
     let lit = || {
         solved

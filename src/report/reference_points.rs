@@ -3,7 +3,7 @@
 use super::floor_points;
 use super::hidden::sees_only_back_faces;
 use super::metrics::ERROR_FLOOR_FRACTION;
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::Rgb;
 use crate::reference::{sample_points, Reference, ReferenceSettings};
 use crate::scene::Scene;
@@ -104,8 +104,12 @@ impl ReferencePoints {
             .surfaces
             .iter()
             .position(|s| scene.objects[s.object as usize].name == "floor")
-            .ok_or_else(|| Error::Geometry(format!("scene '{}' has no floor", spec.name)))?
-            as u32;
+            .ok_or_else(|| {
+                Error::geometry(
+                    GeometryFault::NoSurfaces,
+                    format!("scene '{}' has no floor", spec.name),
+                )
+            })? as u32;
         let normal = spec.floor_normal();
         let visible: Vec<DVec3> = positions
             .iter()

@@ -166,8 +166,14 @@ fn name_the_run(e: Error, run: &SweepRun) -> Error {
             limit,
             message: format!("{what}: {message}"),
         },
-        Error::Solver(m) => Error::Solver(format!("{what}: {m}")),
-        Error::Geometry(m) => Error::Geometry(format!("{what}: {m}")),
+        Error::Solver { fault, message } => Error::Solver {
+            fault,
+            message: format!("{what}: {message}"),
+        },
+        Error::Geometry { fault, message } => Error::Geometry {
+            fault,
+            message: format!("{what}: {message}"),
+        },
         Error::Setting { name, message } => Error::Setting {
             name,
             message: format!("{message} ({what})"),

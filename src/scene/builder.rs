@@ -1,7 +1,7 @@
 //! Building scenes in code: materials, objects, quads, triangles and boxes.
 
 use super::{Camera, Light, Material, Object, Overlaps, Scene, Surface};
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::{planarity_error, Rgb};
 use glam::DVec3;
 
@@ -75,10 +75,13 @@ impl SceneBuilder {
     /// diagonal.
     pub fn polygon(&mut self, material: u32, vertices: &[DVec3]) -> Result<()> {
         if material as usize >= self.scene.materials.len() {
-            return Err(Error::Geometry(format!(
-                "polygon refers to material {material}, but the scene has {}",
-                self.scene.materials.len()
-            )));
+            return Err(Error::geometry(
+                GeometryFault::Mismatch,
+                format!(
+                    "polygon refers to material {material}, but the scene has {}",
+                    self.scene.materials.len()
+                ),
+            ));
         }
         let object = self.object_id();
         if vertices.len() == 4 && planarity_error(vertices) > super::surface::PLANARITY_TOLERANCE {
@@ -186,10 +189,10 @@ impl SceneBuilder {
     pub fn build(self) -> Result<Scene> {
         let mut scene = self.scene;
         if scene.surfaces.is_empty() {
-            return Err(Error::Geometry(format!(
-                "scene '{}' has no surfaces",
-                scene.name
-            )));
+            return Err(Error::geometry(
+                GeometryFault::NoSurfaces,
+                format!("scene '{}' has no surfaces", scene.name),
+            ));
         }
         if let Some(policy) = self.overlaps {
             scene.resolve_overlaps(policy)?;

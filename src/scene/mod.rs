@@ -186,7 +186,17 @@ impl Scene {
         // A model exported before anyone lit it (common in architecture)
         // is lit by daylight instead.
         message.push_str("; or light it with daylight (`sky`, `sun`)");
-        Err(crate::Error::NoLight(message))
+        let dark_lights = self
+            .lights
+            .iter()
+            .filter(|l| !l.shines())
+            .map(|l| l.name.clone())
+            .collect();
+        Err(crate::Error::NoLight {
+            scene: self.name.clone(),
+            dark_lights,
+            message,
+        })
     }
 
     /// Checks every punctual light ([`Light::validate`]).
@@ -263,5 +273,49 @@ impl Scene {
     #[must_use]
     pub fn total_area(&self) -> f64 {
         self.surfaces.iter().map(|s| s.area).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Light, SceneBuilder};
+    use crate::math::Rgb;
+    use crate::Error;
+    use glam::DVec3;
+
+    #[test]
+    fn a_dark_punctual_light_is_named_in_no_light() {
+        let mut b = SceneBuilder::new("dark room");
+        let m = b.material("grey", Rgb::splat(0.5), Rgb::ZERO).unwrap();
+        b.object("floor");
+        b.quad(
+            m,
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(1.0, 0.0, 0.0),
+        )
+        .unwrap();
+        b.light(Light::point(
+            "off lamp",
+            DVec3::new(0.5, 1.0, 0.5),
+            Rgb::splat(1.0),
+            0.0,
+        ))
+        .unwrap();
+        let scene = b.build().unwrap();
+        let e = scene.check_light().unwrap_err();
+        let Error::NoLight {
+            scene: name,
+            dark_lights,
+            message,
+        } = &e
+        else {
+            panic!("expected NoLight, got {e}");
+        };
+        assert_eq!(name, "dark room");
+        assert_eq!(dark_lights, &["off lamp".to_string()]);
+        assert_eq!(e.to_string(), *message);
+        assert!(message.contains("'off lamp'"), "{message}");
     }
 }

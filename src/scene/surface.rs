@@ -1,6 +1,6 @@
 //! Planar surfaces: triangles and convex quads.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::{is_convex, newell_normal, planarity_error, polygon_area, polygon_centroid};
 use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
@@ -45,24 +45,33 @@ impl Surface {
     /// beyond [`MAX_COORDINATE`], zero area, a non-planar or non-convex quad.
     pub fn new(vertices: &[DVec3], material: u32, object: u32) -> Result<Self> {
         if !(3..=4).contains(&vertices.len()) {
-            return Err(Error::Geometry(format!(
-                "a surface needs 3 or 4 vertices, got {}",
-                vertices.len()
-            )));
+            let fault = if vertices.len() < 3 {
+                GeometryFault::Degenerate
+            } else {
+                GeometryFault::Unsupported
+            };
+            return Err(Error::geometry(
+                fault,
+                format!("a surface needs 3 or 4 vertices, got {}", vertices.len()),
+            ));
         }
         if vertices.iter().any(|v| !v.is_finite()) {
-            return Err(Error::Geometry(format!(
-                "non-finite vertex in {vertices:?}"
-            )));
+            return Err(Error::geometry(
+                GeometryFault::NonFinite,
+                format!("non-finite vertex in {vertices:?}"),
+            ));
         }
         if vertices
             .iter()
             .any(|v| v.abs().max_element() > MAX_COORDINATE)
         {
-            return Err(Error::Geometry(format!(
-                "vertex beyond +-{MAX_COORDINATE:e} m (the largest coordinate the solver \
+            return Err(Error::geometry(
+                GeometryFault::OutOfRange,
+                format!(
+                    "vertex beyond +-{MAX_COORDINATE:e} m (the largest coordinate the solver \
                  represents) in {vertices:?}"
-            )));
+                ),
+            ));
         }
         let n = newell_normal(vertices);
         let area = 0.5 * n.length();
@@ -71,17 +80,24 @@ impl Surface {
             .flat_map(|a| vertices.iter().map(move |b| (*a - *b).length_squared()))
             .fold(0.0, f64::max);
         if area.is_nan() || area <= 1e-12 * diam2 || area <= 0.0 {
-            return Err(Error::Geometry(format!(
-                "degenerate polygon (zero area) {vertices:?}"
-            )));
+            return Err(Error::geometry(
+                GeometryFault::Degenerate,
+                format!("degenerate polygon (zero area) {vertices:?}"),
+            ));
         }
         let normal = n / (2.0 * area);
         if vertices.len() == 4 {
             if planarity_error(vertices) > PLANARITY_TOLERANCE {
-                return Err(Error::Geometry(format!("non-planar quad {vertices:?}")));
+                return Err(Error::geometry(
+                    GeometryFault::NonPlanar,
+                    format!("non-planar quad {vertices:?}"),
+                ));
             }
             if !is_convex(vertices, normal) {
-                return Err(Error::Geometry(format!("non-convex quad {vertices:?}")));
+                return Err(Error::geometry(
+                    GeometryFault::NonConvex,
+                    format!("non-convex quad {vertices:?}"),
+                ));
             }
         }
         Ok(Surface {

@@ -20,7 +20,7 @@
 //! variants.
 
 use crate::analytic::{integrate_over_polygon, OccludedLight, QuadratureSettings};
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::math::{newell_normal, polygon_area, polygon_centroid, Rgb};
 use crate::scene::{Camera, Scene, SceneBuilder};
 use glam::{DQuat, DVec3};
@@ -256,10 +256,15 @@ impl PenumbraSpec {
             n.cross(b - a).normalize_or_zero().dot(point - a) < -tolerance
         });
         if !point.is_finite() || off_plane > tolerance || outside {
-            return Err(Error::Geometry(format!(
-                "scene '{}': point {point} is not on the floor",
-                self.name
-            )));
+            let fault = if point.is_finite() {
+                GeometryFault::Mismatch
+            } else {
+                GeometryFault::NonFinite
+            };
+            return Err(Error::geometry(
+                fault,
+                format!("scene '{}': point {point} is not on the floor", self.name),
+            ));
         }
         Ok(())
     }

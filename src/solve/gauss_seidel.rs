@@ -31,7 +31,7 @@
 //! and stops for good if the residual stalls (plain sweeps always converge).
 
 use super::PatchSystem;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SolverFault};
 use crate::math::Rgb;
 
 /// When to stop.
@@ -232,7 +232,8 @@ pub(crate) fn gauss_seidel_grey(
 ) -> Result<SolveReport> {
     let grey = |v: &[Rgb]| v.iter().all(|x| x.is_grey());
     if !(grey(&system.emission) && grey(&system.reflectance) && grey(b)) {
-        return Err(Error::Solver(
+        return Err(Error::solver(
+            SolverFault::Internal,
             "the one-band solve needs grey reflectances, emissions and start values".into(),
         ));
     }
@@ -260,10 +261,13 @@ fn checked_contraction(system: &PatchSystem) -> Result<f64> {
         let (patch, rho, sum) = worst_row(system);
         refuse_unbounded_row(patch, rho, sum)?;
         // A NaN anywhere else.
-        return Err(Error::Solver(format!(
-            "reflectance times form-factor row sum is {q} (patch {patch}: reflectance {rho}, \
+        return Err(Error::solver(
+            SolverFault::NotANumber,
+            format!(
+                "reflectance times form-factor row sum is {q} (patch {patch}: reflectance {rho}, \
              row sum {sum}): not a number"
-        )));
+            ),
+        ));
     }
     Ok(q)
 }
@@ -282,11 +286,19 @@ pub(crate) fn refuse_unbounded_row(patch: usize, rho: f64, sum: f64) -> Result<(
     } else {
         "the system is too close to singular for single-precision form factors"
     };
-    Err(Error::Solver(format!(
-        "reflectance times form-factor row sum reaches {q:.7} (patch {patch}: reflectance \
+    let fault = if q.is_nan() {
+        SolverFault::NotANumber
+    } else {
+        SolverFault::Unbounded
+    };
+    Err(Error::solver(
+        fault,
+        format!(
+            "reflectance times form-factor row sum reaches {q:.7} (patch {patch}: reflectance \
          {rho}, row sum {sum:.7}), above the {MAX_CONTRACTION} allowed: {what}; lower the \
          reflectances closest to 1"
-    )))
+        ),
+    ))
 }
 
 /// The iteration itself, on any [`Bands`], with contraction factor `q`.
@@ -318,21 +330,27 @@ fn iterate<V: Bands>(
         report.residual = residual;
         report.error_bound = residual / (1.0 - q);
         if !report.error_bound.is_finite() || !scale.is_finite() {
-            return Err(Error::Solver(format!(
-                "the iteration diverged after {} sweeps (residual {residual})",
-                report.iterations
-            )));
+            return Err(Error::solver(
+                SolverFault::Diverged,
+                format!(
+                    "the iteration diverged after {} sweeps (residual {residual})",
+                    report.iterations
+                ),
+            ));
         }
         if report.error_bound <= settings.tolerance * scale || scale == 0.0 {
             return Ok(report);
         }
         if report.iterations >= settings.max_iterations {
-            return Err(Error::Solver(format!(
-                "no convergence after {} sweeps: residual {residual:.3e}, error bound {:.3e} \
+            return Err(Error::solver(
+                SolverFault::NotConverged,
+                format!(
+                    "no convergence after {} sweeps: residual {residual:.3e}, error bound {:.3e} \
                  (tolerance {:.1e} of {scale:.3e}): reflectances this close to 1 converge too \
                  slowly; lower them or loosen `solver.tolerance`",
-                report.iterations, report.error_bound, settings.tolerance
-            )));
+                    report.iterations, report.error_bound, settings.tolerance
+                ),
+            ));
         }
         before.clear();
         before.extend_from_slice(b);

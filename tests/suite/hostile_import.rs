@@ -6,7 +6,7 @@
 
 use radiosity::gltf_io::{load_scene, ImportLimits};
 use radiosity::scene::{Scene, SceneBuilder, MAX_COORDINATE};
-use radiosity::Error;
+use radiosity::{Error, GeometryFault};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -334,7 +334,13 @@ fn coordinates_beyond_the_solvers_range_are_an_error_naming_node_and_mesh() {
         glam::DVec3::new(x, 1.0, 0.0),
         glam::DVec3::new(x, 0.0, 1.0),
     ];
-    assert!(matches!(b.polygon(m, &far), Err(Error::Geometry(_))));
+    assert!(matches!(
+        b.polygon(m, &far),
+        Err(Error::Geometry {
+            fault: GeometryFault::OutOfRange,
+            ..
+        })
+    ));
 }
 
 #[test]

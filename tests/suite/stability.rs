@@ -6,7 +6,7 @@ use super::stress_scenes::leaves;
 use glam::DVec3;
 use radiosity::math::Rgb;
 use radiosity::solve::{gauss_seidel, PatchSystem, SolverSettings, MAX_CONTRACTION};
-use radiosity::{Error, Settings};
+use radiosity::{Error, Settings, SolverFault};
 use std::time::Instant;
 
 fn furnace(rho: f64) -> radiosity::scene::Scene {
@@ -76,7 +76,16 @@ fn hitting_the_sweep_limit_is_an_error_with_the_residual_reached() {
     };
     let e = radiosity::solve(&furnace(0.99), &settings, &|_| {}).unwrap_err();
     let text = e.to_string();
-    assert!(matches!(e, Error::Solver(_)), "{text}");
+    assert!(
+        matches!(
+            e,
+            Error::Solver {
+                fault: SolverFault::NotConverged,
+                ..
+            }
+        ),
+        "{text}"
+    );
     assert!(text.contains("after 3 sweeps"), "{text}");
     assert!(text.contains("residual"), "{text}");
 }

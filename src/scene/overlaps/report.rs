@@ -2,7 +2,7 @@
 //! they are refused, each with the number of pairs and the first few by name.
 
 use super::pairs::Found;
-use crate::error::Error;
+use crate::error::{Error, GeometryFault};
 use crate::scene::Scene;
 
 /// Pairs of objects spelled out in one message.
@@ -79,14 +79,17 @@ pub(super) fn resolved(scene: &Scene, found: &Found) -> String {
 
 /// The error for overlaps that are refused.
 pub(super) fn refusal(scene: &Scene, found: &Found) -> Error {
-    Error::Geometry(format!(
-        "{} pairs of surfaces with different materials overlap in one plane, facing the same \
+    Error::geometry(
+        GeometryFault::Overlap,
+        format!(
+            "{} pairs of surfaces with different materials overlap in one plane, facing the same \
          way: {}. The hemi-cube cannot tell which is in front, so one would hide the other \
          from the whole scene. Let the importer resolve them (`overlaps` resolve, the \
          default: the smaller layer covers the larger), or move one \
          off the other by at least {:.3e} m (1e-4 of the scene's size), or cut a hole for it",
-        found.pairs.len() + found.duplicates.len(),
-        listing(scene, found, " and "),
-        1e-4 * scene.extent()
-    ))
+            found.pairs.len() + found.duplicates.len(),
+            listing(scene, found, " and "),
+            1e-4 * scene.extent()
+        ),
+    )
 }

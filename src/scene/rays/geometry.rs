@@ -6,7 +6,7 @@
 //! sample points then use the same plane, which keeps the ray-origin offset (see
 //! [`Tolerances`]) meaningful even for slightly warped input.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, GeometryFault, Result};
 use crate::scene::Surface;
 use glam::DVec3;
 
@@ -66,17 +66,25 @@ impl SurfaceGeometry {
     /// cannot trace exactly (wrong vertex count, non-finite data, zero area, a
     /// normal that disagrees with the winding, a non-convex quad).
     pub(crate) fn new(index: usize, surface: &Surface) -> Result<SurfaceGeometry> {
-        let fail = |what: &str| Error::Geometry(format!("surface {index}: {what}"));
+        let fail = |fault, what: &str| Error::geometry(fault, format!("surface {index}: {what}"));
         let count = surface.vertices.len();
         if !(3..=4).contains(&count) {
-            return Err(fail(&format!("has {count} vertices (needs 3 or 4)")));
+            let fault = if count < 3 {
+                GeometryFault::Degenerate
+            } else {
+                GeometryFault::Unsupported
+            };
+            return Err(fail(fault, &format!("has {count} vertices (needs 3 or 4)")));
         }
         if surface.vertices.iter().any(|v| !v.is_finite()) || !surface.normal.is_finite() {
-            return Err(fail("has a non-finite vertex or normal"));
+            return Err(fail(
+                GeometryFault::NonFinite,
+                "has a non-finite vertex or normal",
+            ));
         }
         let normal = surface.normal.normalize_or_zero();
         if normal == DVec3::ZERO {
-            return Err(fail("has a zero normal"));
+            return Err(fail(GeometryFault::Degenerate, "has a zero normal"));
         }
         let mean = surface.vertices.iter().copied().sum::<DVec3>() / count as f64;
         let mut vertices = [DVec3::ZERO; 4];
@@ -93,6 +101,7 @@ impl SurfaceGeometry {
         let area = first + second;
         if !(first > 0.0 && second >= 0.0 && area.is_finite()) {
             return Err(fail(
+                GeometryFault::Degenerate,
                 "has zero area, or vertices that run clockwise about its normal",
             ));
         }
@@ -102,7 +111,7 @@ impl SurfaceGeometry {
             let edge = v[(k + 1) % count] - v[k];
             let inward = normal.cross(edge).normalize_or_zero();
             if inward == DVec3::ZERO {
-                return Err(fail("has a zero-length edge"));
+                return Err(fail(GeometryFault::Degenerate, "has a zero-length edge"));
             }
             edge_normals[k] = inward;
             edge_offsets[k] = inward.dot(v[k] - mean);
@@ -124,7 +133,7 @@ impl SurfaceGeometry {
         for k in 0..count {
             for j in (k + 2)..(k + count) {
                 if geometry.edge_margin(k, v[j % count] - mean) < -1e-9 * size {
-                    return Err(fail("is not convex"));
+                    return Err(fail(GeometryFault::NonConvex, "is not convex"));
                 }
             }
         }
