@@ -71,20 +71,22 @@ struct Group {
     triangles: Vec<usize>,
 }
 
-/// A vertex colour that clipping to 1 cuts by more than this factor (half a
-/// stop) shows its texture visibly darker and flatter than `render` does.
-/// A little clipping is common (a texture of mean 0.5 whose floor is shown
-/// brighter than 0.5) and costs little; a viewer that loses half a stop and
-/// more over a material shows it wrong.
-const FAR_CLIPPED: f64 = std::f64::consts::SQRT_2;
+/// A vertex colour that clipping to 1 cuts by more than this factor (a
+/// stop) shows its texture far darker and flatter than `render` does. Some
+/// clipping is common: a texture of mean reflectance 0.5 filling the view
+/// is shown brighter than 0.5, clipped by up to a stop (never more, as the
+/// tone map stays below 1), and keeps its detail; a texture of darker mean
+/// lit as brightly loses more.
+const FAR_CLIPPED: f64 = 2.0;
 
 /// The largest share of a textured material's vertices that may be clipped
 /// by more than [`FAR_CLIPPED`] for its texture to be kept: beyond it the
 /// material is baked untextured, each vertex in its display colour (the
 /// elements carry their own texture means), which trades the texture's
 /// detail within elements for the right light. (A voxel knight under an
-/// overcast sky clipped 7 533 of its 12 401 textured vertices.)
-const MAX_CLIPPED_SHARE: f64 = 0.02;
+/// overcast sky, its palette's reflectances 0.3 to 0.5, clipped 7 533 of
+/// its 12 401 vertices, 1 647 of them by more than a stop.)
+const MAX_CLIPPED_SHARE: f64 = 0.1;
 
 /// Per material, the vertices of its primitives in `baked` clipped by more
 /// than [`FAR_CLIPPED`], and all its vertices.
@@ -139,9 +141,9 @@ struct Baked {
 ///   radiance over the mean reflectance, so that texel times colour shows
 ///   the texture's detail around it (where that would exceed 1 it is
 ///   clipped, counted in a warning). Textured materials that emit are baked
-///   untextured, as are those that would be clipped by more than half a
-///   stop at more than [`MAX_CLIPPED_SHARE`] of their vertices (with a
-///   warning naming them).
+///   untextured, as are those that would be clipped by more than a stop at
+///   more than [`MAX_CLIPPED_SHARE`] of their vertices (with a warning
+///   naming them).
 /// - Light group `k` is the attribute `_GROUP_k`: its radiosity per vertex
 ///   (its irradiance on kept textures) divided by its scale, a power of two;
 ///   `asset.extras.radiosity` lists the groups' names, attributes and scales,
@@ -231,7 +233,7 @@ pub(crate) fn stage_baked(
         if kept[m].is_some() && clipped as f64 > MAX_CLIPPED_SHARE * vertices as f64 {
             kept[m] = None;
             dropped.push(format!(
-                "'{}' ({clipped} of {vertices} vertices by more than half a stop)",
+                "'{}' ({clipped} of {vertices} vertices by more than a stop)",
                 scene.materials[m].name
             ));
         }
@@ -326,7 +328,7 @@ pub(crate) fn stage_baked(
         summary.warnings.push(format!(
             "{} textured materials are lit brighter than their textures can show in \
              COLOR_0 at exposure {exposure:.2} (a viewer draws texel times colour, each at \
-             most 1), by more than half a stop at more than {}% of their vertices: baked \
+             most 1), by more than a stop at more than {}% of their vertices: baked \
              without their textures, \
              each element in its own colour: {}",
             dropped.len(),

@@ -269,15 +269,19 @@ fn khr_texture_transform_scale_2_makes_4x4_checks() {
 }
 
 #[test]
-fn a_texture_its_light_would_clip_at_most_vertices_is_baked_untextured_and_named() {
+fn a_dark_texture_its_light_would_clip_by_more_than_a_stop_is_baked_untextured_and_named() {
     // A viewer draws texel times COLOR_0, each at most 1: where the display
-    // value of the mean texel exceeds the mean reflectance (0.5 here), the
-    // colour clips. At the automatic exposure the floor shows in mid grey
-    // and keeps its checker; eight stops brighter nearly every vertex would
-    // clip, so the floor is baked in its own colours, untextured, and the
-    // warning names it.
+    // value of the mean texel exceeds the mean reflectance, the colour
+    // clips. A checker of 0.1 and 0.4 (mean 0.25) filling the view is
+    // shown at the automatic exposure brighter than twice its mean, which
+    // its vertices' colours would have to be clipped by more than a stop to
+    // show: the floor is baked in its own colours, untextured, and the
+    // warning names it. Three stops darker, the texture is kept.
     use radiosity::gltf_io::{write_baked, BakeOptions};
-    let scene = checkered_floor(true);
+    let mut scene = checkered_floor(true);
+    let (d, b) = ([0.1f32; 3], [0.4f32; 3]);
+    scene.materials[0].base_texture = Some(Arc::new(Texture::nearest(2, 2, vec![d, b, b, d])));
+    scene.materials[0].reflectance = Rgb::splat(0.25);
     let sol = solve(&scene, &uniform(1.0, 2, SolverKind::GaussSeidel));
     let shading = sol.shading_mesh();
     let dir = std::env::temp_dir().join(format!("radiosity-clip-{}", std::process::id()));
@@ -296,21 +300,7 @@ fn a_texture_its_light_would_clip_at_most_vertices_is_baked_untextured_and_named
             .is_some();
         (summary, textured)
     };
-    let (normal, textured) = bake(None, "auto.gltf");
-    assert!(
-        textured,
-        "at the automatic exposure the checker is kept: {:?}",
-        normal.warnings
-    );
-    assert!(
-        normal
-            .warnings
-            .iter()
-            .all(|w| !w.contains("without their textures")),
-        "{:?}",
-        normal.warnings
-    );
-    let (bright, textured) = bake(Some(normal.exposure + 8.0), "bright.gltf");
+    let (bright, textured) = bake(None, "auto.gltf");
     assert!(!textured, "the clipped checker must not be kept");
     assert!(
         bright
@@ -319,6 +309,19 @@ fn a_texture_its_light_would_clip_at_most_vertices_is_baked_untextured_and_named
             .any(|w| w.contains("without their textures") && w.contains("'floor'")),
         "{:?}",
         bright.warnings
+    );
+    let (dim, textured) = bake(Some(bright.exposure - 3.0), "dim.gltf");
+    assert!(
+        textured,
+        "three stops darker the checker is kept: {:?}",
+        dim.warnings
+    );
+    assert!(
+        dim.warnings
+            .iter()
+            .all(|w| !w.contains("without their textures")),
+        "{:?}",
+        dim.warnings
     );
     std::fs::remove_dir_all(&dir).ok();
 }
