@@ -192,22 +192,33 @@ fn converged_shots_end_within_a_fifth_of_a_percent_of_gauss_seidel_at_default_se
             "{:?}",
             shot.stats().warnings
         );
-        for (g, p) in gathered
-            .object_radiosity(&scene)
-            .iter()
-            .zip(shot.object_radiosity(&scene))
-        {
-            for band in 0..3 {
-                let d = rel(p.radiosity[band], g.radiosity[band]);
-                assert!(
-                    d < 0.002,
-                    "{} band {band}: progressive {} Gauss-Seidel {} ({:.3}%)",
-                    g.name,
-                    p.radiosity[band],
-                    g.radiosity[band],
-                    100.0 * d
-                );
-            }
+        assert_objects_agree(&scene, &gathered, &shot, 0.002);
+    }
+}
+
+/// Asserts that every object's radiosity in the progressive solution `shot`
+/// is within `bound` of the gathering solution's, relatively, per band.
+fn assert_objects_agree(
+    scene: &radiosity::scene::Scene,
+    gathered: &Solution,
+    shot: &Solution,
+    bound: f64,
+) {
+    for (g, p) in gathered
+        .object_radiosity(scene)
+        .iter()
+        .zip(shot.object_radiosity(scene))
+    {
+        for band in 0..3 {
+            let d = rel(p.radiosity[band], g.radiosity[band]);
+            assert!(
+                d < bound,
+                "{} band {band}: progressive {} Gauss-Seidel {} ({:.3}%)",
+                g.name,
+                p.radiosity[band],
+                g.radiosity[band],
+                100.0 * d
+            );
         }
     }
 }
@@ -222,23 +233,7 @@ fn agrees_per_surface(
     assert_eq!(figures.stop, StopReason::Converged);
     assert!(!figures.passes.is_empty(), "the test needs refinement");
     assert_eq!(figures.unshot_increases, 0);
-    for (g, p) in gathered
-        .object_radiosity(scene)
-        .iter()
-        .zip(shot.object_radiosity(scene))
-    {
-        for band in 0..3 {
-            let d = rel(p.radiosity[band], g.radiosity[band]);
-            assert!(
-                d < 0.01,
-                "{} band {band}: progressive {} Gauss-Seidel {} ({:.2}%)",
-                g.name,
-                p.radiosity[band],
-                g.radiosity[band],
-                100.0 * d
-            );
-        }
-    }
+    assert_objects_agree(scene, &gathered, &shot, 0.01);
     // The substructuring invariant holds for the shot solution too.
     for (i, patch) in shot.mesh().patches().iter().enumerate() {
         let mut sum = Rgb::ZERO;
@@ -763,20 +758,10 @@ fn rows_that_do_not_fit_the_budget_leave_the_shots_rendering() {
     assert!(f.shot_cache_bytes <= 64 << 10);
     assert!(f.cached_shots > 0, "what fits is still kept");
     assert_eq!(f.unshot_increases, 0);
-    for (g, p) in gathered
-        .object_radiosity(&scene)
-        .iter()
-        .zip(shot.object_radiosity(&scene))
-    {
-        for band in 0..3 {
-            let d = rel(p.radiosity[band], g.radiosity[band]);
-            // 1.5%: shots alone judge a floor leaf that a block's edge
-            // crosses by its centre (lit or shut in as a whole), gathered rows
-            // by its visible share (`formfactor/contacts.rs`); measured 1.07%
-            // on the ceiling.
-            assert!(d < 0.015, "{} band {band}: {:.2}%", g.name, 100.0 * d);
-        }
-    }
+    // 1.5%: shots alone judge a floor leaf that a block's edge crosses by
+    // its centre (lit or shut in as a whole), gathered rows by its visible
+    // share (`formfactor/contacts.rs`); measured 1.07% on the ceiling.
+    assert_objects_agree(&scene, &gathered, &shot, 0.015);
 }
 
 #[test]
