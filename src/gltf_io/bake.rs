@@ -3,7 +3,9 @@
 
 use super::bake_display::{cameras_to_write, clip_planes, default_exposure, Display};
 use super::bake_groups::{check_groups, description, GroupWriter};
-use super::bake_texture::{kept_textures, TextureWriter};
+use super::bake_texture::{
+    drop_clipped_textures, kept_textures, TextureWriter, FAR_CLIPPED, MAX_CLIPPED_SHARE,
+};
 use super::export::{
     check_exportable, export_camera, finish, is_binary, new_root, output_error, use_extension,
 };
@@ -71,23 +73,6 @@ struct Group {
     triangles: Vec<usize>,
 }
 
-/// A vertex colour that clipping to 1 cuts by more than this factor (a
-/// stop) shows its texture far darker and flatter than `render` does. Some
-/// clipping is common: a texture of mean reflectance 0.5 filling the view
-/// is shown brighter than 0.5, clipped by up to a stop (never more, as the
-/// tone map stays below 1), and keeps its detail; a texture of darker mean
-/// lit as brightly loses more.
-const FAR_CLIPPED: f64 = 2.0;
-
-/// The largest share of a textured material's vertices that may be clipped
-/// by more than [`FAR_CLIPPED`] for its texture to be kept: beyond it the
-/// material is baked untextured, each vertex in its display colour (the
-/// elements carry their own texture means), which trades the texture's
-/// detail within elements for the right light. (A voxel knight under an
-/// overcast sky, its palette's reflectances 0.3 to 0.5, clipped 7 533 of
-/// its 12 401 vertices, 1 647 of them by more than a stop.)
-const MAX_CLIPPED_SHARE: f64 = 0.1;
-
 /// Per material, the vertices of its primitives in `baked` clipped by more
 /// than [`FAR_CLIPPED`], and all its vertices.
 fn clipping_textures(
@@ -142,8 +127,7 @@ struct Baked {
 ///   the texture's detail around it (where that would exceed 1 it is
 ///   clipped, counted in a warning). Textured materials that emit are baked
 ///   untextured, as are those that would be clipped by more than a stop at
-///   more than [`MAX_CLIPPED_SHARE`] of their vertices (with a warning
-///   naming them).
+///   more than a tenth of their vertices (with a warning naming them).
 /// - Light group `k` is the attribute `_GROUP_k`: its radiosity per vertex
 ///   (its irradiance on kept textures) divided by its scale, a power of two;
 ///   `asset.extras.radiosity` lists the groups' names, attributes and scales,
@@ -227,17 +211,8 @@ pub(crate) fn stage_baked(
             .collect()
     };
     let mut baked = bake_all(&kept);
-    let too_bright = clipping_textures(scene.materials.len(), &primitives, &baked);
-    let mut dropped = Vec::new();
-    for (m, (clipped, vertices)) in too_bright.into_iter().enumerate() {
-        if kept[m].is_some() && clipped as f64 > MAX_CLIPPED_SHARE * vertices as f64 {
-            kept[m] = None;
-            dropped.push(format!(
-                "'{}' ({clipped} of {vertices} vertices by more than a stop)",
-                scene.materials[m].name
-            ));
-        }
-    }
+    let clipped_far = clipping_textures(scene.materials.len(), &primitives, &baked);
+    let dropped = drop_clipped_textures(scene, &clipped_far, &mut kept);
     if !dropped.is_empty() {
         baked = bake_all(&kept);
     }

@@ -23,6 +23,46 @@ use gltf_json::{Image, Index, Root};
 use std::collections::HashMap;
 use std::sync::Arc;
 
+/// A vertex colour that clipping to 1 cuts by more than this factor (a
+/// stop) shows its texture far darker and flatter than `render` does. Some
+/// clipping is common: a texture of mean reflectance 0.5 filling the view
+/// is shown brighter than 0.5, clipped by up to a stop (never more, as the
+/// tone map stays below 1), and keeps its detail; a texture of darker mean
+/// lit as brightly loses more.
+pub(super) const FAR_CLIPPED: f64 = 2.0;
+
+/// The largest share of a textured material's vertices that may be clipped
+/// by more than [`FAR_CLIPPED`] for its texture to be kept: beyond it the
+/// material is baked untextured, each vertex in its display colour (the
+/// elements carry their own texture means), which trades the texture's
+/// detail within elements for the right light. (A voxel knight under an
+/// overcast sky, its palette's reflectances 0.3 to 0.5, clipped 7 533 of
+/// its 12 401 vertices, 1 647 of them by more than a stop.)
+pub(super) const MAX_CLIPPED_SHARE: f64 = 0.1;
+
+/// Drops from `kept` the texture of every material that `clipped_far`
+/// (per material: vertices clipped by more than [`FAR_CLIPPED`], and all
+/// its vertices) shows clipped at more than [`MAX_CLIPPED_SHARE`] of its
+/// vertices; returns each dropped material's name with its counts, for the
+/// warning.
+pub(super) fn drop_clipped_textures(
+    scene: &Scene,
+    clipped_far: &[(usize, usize)],
+    kept: &mut [Option<Arc<Texture>>],
+) -> Vec<String> {
+    let mut dropped = Vec::new();
+    for (m, &(clipped, vertices)) in clipped_far.iter().enumerate() {
+        if kept[m].is_some() && clipped as f64 > MAX_CLIPPED_SHARE * vertices as f64 {
+            kept[m] = None;
+            dropped.push(format!(
+                "'{}' ({clipped} of {vertices} vertices by more than a stop)",
+                scene.materials[m].name
+            ));
+        }
+    }
+    dropped
+}
+
 /// Per material of `scene`: the base-colour texture a bake keeps, or `None`.
 /// A texture is kept when every display triangle on the material lies on a
 /// textured surface of `shading` (one with texture coordinates), and the
