@@ -372,11 +372,14 @@ mod tests {
     }
 
     #[test]
-    fn default_patch_size_gives_about_the_papers_960_patches() {
+    fn default_patch_size_gives_within_a_tenth_of_the_papers_960_patches() {
+        // Greenberg, Cohen and Torrance's sculpture has 960 patches; the
+        // default patch size (the scene's diagonal over 10) cuts this
+        // reconstruction into 900.
         let scene = ferren_sculpture();
         let size = Settings::default().patch_size_for(&scene);
         let mesh = crate::mesh::Mesh::new(&scene, size, 50_000).unwrap();
-        let n = mesh.patches.len();
-        assert_eq!(n, 900, "{size} m patches");
+        let n = mesh.patches.len() as f64;
+        assert!((n / 960.0 - 1.0).abs() < 0.1, "{n} patches of {size} m");
     }
 }
