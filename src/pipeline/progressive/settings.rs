@@ -44,7 +44,10 @@ pub struct ProgressiveSettings {
     pub max_shots: Option<usize>,
     /// Stop once this much wall-clock time has passed since the solve began
     /// (checked before each shot). Unlike the other rules, where this stops
-    /// depends on the machine.
+    /// depends on the machine. It bounds the shots: a solve that converges
+    /// within it still ends in its shaped gathers (see
+    /// [`Settings::shaped_gathers`](crate::Settings::shaped_gathers)), which
+    /// may take it past the budget.
     pub time_budget: Option<Duration>,
     /// Hand a preview to the caller every this many shots.
     pub preview_every: Option<usize>,
