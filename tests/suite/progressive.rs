@@ -146,6 +146,21 @@ fn six_patch_cube_converges_to_the_exact_solution() {
     }
 }
 
+/// The Cornell box's settings both solvers are compared at: the defaults,
+/// `coarse_cornell`, and the defaults with shooter-side factors throughout
+/// (no gathered rows).
+fn cornell_cases() -> [(Settings, ProgressiveSettings); 3] {
+    let shooting_only = ProgressiveSettings {
+        gather_rows: false,
+        ..ProgressiveSettings::default()
+    };
+    [
+        (Settings::default(), ProgressiveSettings::default()),
+        (coarse_cornell(), ProgressiveSettings::default()),
+        (Settings::default(), shooting_only),
+    ]
+}
+
 #[test]
 fn agrees_with_gauss_seidel_per_surface_on_the_cornell_box() {
     // At the default settings (what users run; measured 0.17% at most), and
@@ -153,15 +168,7 @@ fn agrees_with_gauss_seidel_per_surface_on_the_cornell_box() {
     // a little: the progressive solve refines while it shoots. Shooter-side
     // factors throughout (no gathered rows) meet the check too (0.67%).
     let scene = scenes::cornell_box();
-    let shooting_only = ProgressiveSettings {
-        gather_rows: false,
-        ..ProgressiveSettings::default()
-    };
-    for (settings, p) in [
-        (Settings::default(), ProgressiveSettings::default()),
-        (coarse_cornell(), ProgressiveSettings::default()),
-        (Settings::default(), shooting_only),
-    ] {
+    for (settings, p) in cornell_cases() {
         agrees_per_surface(&scene, &settings, p);
     }
 }
@@ -176,15 +183,7 @@ fn converged_shots_end_within_a_fifth_of_a_percent_of_gauss_seidel_at_default_se
     // shooter-side factors throughout (no gathered rows) leave most leaves
     // without a row: the gathering solver renders them when it takes over.
     let scene = scenes::cornell_box();
-    let shooting_only = ProgressiveSettings {
-        gather_rows: false,
-        ..ProgressiveSettings::default()
-    };
-    for (settings, p) in [
-        (Settings::default(), ProgressiveSettings::default()),
-        (coarse_cornell(), ProgressiveSettings::default()),
-        (Settings::default(), shooting_only),
-    ] {
+    for (settings, p) in cornell_cases() {
         let gathered = radiosity::solve(&scene, &settings, &|_| {}).unwrap();
         let shot = radiosity::solve(&scene, &progressive(settings.clone(), p), &|_| {}).unwrap();
         assert_eq!(stats(&shot).stop, StopReason::Converged);

@@ -196,7 +196,8 @@ impl Shooting<'_> {
     /// patch system cannot be solved (also said).
     fn hand_over(&self, ws: &mut Workspace<'_>, b: Vec<Rgb>) -> Option<Gathering> {
         let count = ws.settings.shaped_gather_count();
-        if count == 0 || ws.settings.bounces.is_some() {
+        // (A fixed number of bounces is refused with this solver.)
+        if count == 0 {
             return None;
         }
         if self.stop != StopReason::Converged {
