@@ -331,6 +331,7 @@ impl<'a> RowScene<'a> {
                     .settings
                     .level_of_detail
                     .then_some(self.settings.table.n),
+                occlusion: self.settings.level_of_detail,
             }),
             // Surfaces within the element's own size: where they fill much
             // of its view, what it receives changes across it (see

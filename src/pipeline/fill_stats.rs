@@ -54,6 +54,7 @@ impl SolveStats {
             polygons_rasterized: hemicube.polygons_rasterized,
             pixels_tested: hemicube.pixels_tested,
             polygons_culled: hemicube.polygons_culled,
+            polygons_hidden: hemicube.polygons_hidden,
             element_form_factors: form_factors.row_entries(),
             patch_form_factors: system.nonzeros(),
             mean_row_sum: sums.iter().sum::<f64>() / sums.len().max(1) as f64,

@@ -33,6 +33,9 @@ pub struct HemicubeFigures {
     /// Polygon-hemi-cube pairs dropped before projection: the polygon is on
     /// the receiver's own surface, wholly behind or on its plane, or edge-on.
     pub polygons_culled: u64,
+    /// Polygon-hemi-cube pairs never drawn because what the hemi-cube had
+    /// already drawn hid their whole BVH node (occlusion culling).
+    pub polygons_hidden: u64,
     /// Element-to-patch form factors stored.
     pub element_form_factors: usize,
     /// Patch-to-patch form factors stored.

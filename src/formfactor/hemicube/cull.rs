@@ -63,6 +63,10 @@ pub(crate) struct Cull<'a> {
     /// sample (see the module notes), for hemi-cubes of `lod` pixels across;
     /// `None` draws every polygon.
     pub(crate) lod: Option<usize>,
+    /// Walk the BVH nearest first and leave out subtrees the depth buffer
+    /// already hides (see `occlusion.rs`); otherwise draw in the full pass's
+    /// order.
+    pub(crate) occlusion: bool,
 }
 
 /// A subtree is drawn as one sample when its bounding sphere's angular
@@ -174,7 +178,53 @@ impl Between {
     }
 }
 
+/// What to do with a BVH node while walking the occluders' tree.
+pub(super) enum Fate {
+    /// Nothing under it can be seen: this many polygons left out.
+    Skip(u64),
+    /// Drawn as one sample (level of detail).
+    Splat,
+    /// Its children, or its polygons for a leaf, to be looked at.
+    Open,
+}
+
 impl Cull<'_> {
+    /// Node `index`'s box in scene coordinates.
+    pub(super) fn node_box(&self, index: u32) -> (DVec3, DVec3) {
+        let aabb = self.occluders.bvh.nodes[index as usize].aabb();
+        let centre = self.occluders.centre;
+        (aabb.min.as_dvec3() + centre, aabb.max.as_dvec3() + centre)
+    }
+
+    /// What becomes of node `index` (box `lo..hi`) seen from `frame`: left
+    /// out when wholly below the horizon or in none of `within` (none:
+    /// everything), a sample when it would cover less than a pixel.
+    pub(super) fn fate(
+        &self,
+        index: u32,
+        lo: DVec3,
+        hi: DVec3,
+        frame: &Frame,
+        within: &[Between],
+    ) -> Fate {
+        let summary = &self.occluders.summaries[index as usize];
+        let centre = (lo + hi) * 0.5;
+        let radius = (hi - lo).length() * 0.5;
+        if box_below(lo, hi, frame.eye, frame.normal, 0.0)
+            || (!within.is_empty() && !within.iter().any(|c| c.meets(centre, radius)))
+        {
+            return Fate::Skip(u64::from(summary.polygons));
+        }
+        // A node is drawn as a sample when 2 r / d < LOD_PIXELS * 2 / n.
+        if let Some(limit) = self.lod.map(|n| LOD_PIXELS / n as f64).filter(|x| *x > 0.0) {
+            let distance = (centre - frame.eye).length();
+            if summary.polygons >= 2 && radius < limit * distance {
+                return Fate::Splat;
+            }
+        }
+        Fate::Open
+    }
+
     /// Lists in `ids` (sorted) the polygons to draw from `frame` and in
     /// `splats` the BVH nodes to draw as one sample; returns how many polygons
     /// were left out below the horizon. `found` is scratch, empty before and
@@ -190,49 +240,31 @@ impl Cull<'_> {
     ) -> u64 {
         ids.clear();
         splats.clear();
-        let o = self.occluders;
-        let bvh = &o.bvh;
+        let bvh = &self.occluders.bvh;
         if bvh.nodes.is_empty() {
             return 0;
         }
-        // A node is drawn as a sample when 2 r / d < LOD_PIXELS * 2 / n.
-        let lod = self.lod.map(|n| LOD_PIXELS / n as f64).filter(|x| *x > 0.0);
         let mut culled = 0u64;
         let mut stack: Vec<u32> = Vec::with_capacity(64);
         stack.push(0);
         while let Some(index) = stack.pop() {
-            let node = &bvh.nodes[index as usize];
-            let aabb = node.aabb();
-            let lo = aabb.min.as_dvec3() + o.centre;
-            let hi = aabb.max.as_dvec3() + o.centre;
-            let summary = &o.summaries[index as usize];
-            if box_below(lo, hi, frame.eye, frame.normal, 0.0)
-                || (!within.is_empty()
-                    && !within
-                        .iter()
-                        .any(|c| c.meets((lo + hi) * 0.5, (hi - lo).length() * 0.5)))
-            {
-                culled += u64::from(summary.polygons);
-                continue;
-            }
-            if let Some(limit) = lod {
-                let centre = (lo + hi) * 0.5;
-                let radius = (hi - lo).length() * 0.5;
-                let distance = (centre - frame.eye).length();
-                if summary.polygons >= 2 && radius < limit * distance {
-                    splats.push(index);
-                    continue;
+            let (lo, hi) = self.node_box(index);
+            match self.fate(index, lo, hi, frame, within) {
+                Fate::Skip(polygons) => culled += polygons,
+                Fate::Splat => splats.push(index),
+                Fate::Open => {
+                    let node = &bvh.nodes[index as usize];
+                    if node.is_leaf() {
+                        let first = node.first_index as usize;
+                        for &id in &bvh.primitive_indices[first..first + node.prim_count as usize] {
+                            found.insert(id);
+                        }
+                    } else {
+                        // Right first, so that left subtrees come out first.
+                        stack.push(node.first_index + 1);
+                        stack.push(node.first_index);
+                    }
                 }
-            }
-            if node.is_leaf() {
-                let first = node.first_index as usize;
-                for &id in &bvh.primitive_indices[first..first + node.prim_count as usize] {
-                    found.insert(id);
-                }
-            } else {
-                // Right first, so that left subtrees come out first.
-                stack.push(node.first_index + 1);
-                stack.push(node.first_index);
             }
         }
         // The full pass's order, so that ties in the depth test go the same
@@ -458,6 +490,7 @@ mod tests {
                     cull: lod.map(|lod| Cull {
                         occluders: &occluders,
                         lod,
+                        occlusion: false,
                     }),
                     reach: 0.0,
                 })

@@ -17,6 +17,7 @@ mod emitters;
 mod faces;
 mod hybrid;
 mod id_set;
+mod occlusion;
 mod parts;
 mod raster;
 mod row;
@@ -80,6 +81,8 @@ pub struct Hemicube {
     splats: Vec<u32>,
     /// The polygons found to draw, before they are listed in order.
     found: id_set::IdSet,
+    /// BVH nodes the depth buffer hid this time (see `occlusion.rs`).
+    hidden_nodes: Vec<u32>,
     /// Clear and read out only the drawn rectangles (true by default); false
     /// treats every face as wholly drawn, as a check that skipping changes
     /// nothing.
@@ -115,6 +118,7 @@ impl Hemicube {
             candidates: Vec::new(),
             splats: Vec::new(),
             found: id_set::IdSet::default(),
+            hidden_nodes: Vec::new(),
             skip_empty: true,
             stats: HemicubeStats::default(),
         }

@@ -10,11 +10,25 @@ use glam::{DVec2, DVec3};
 use smallvec::SmallVec;
 
 /// How [`Hemicube::draw_polygon`] draws.
-struct Draw<'a> {
-    frame: &'a Frame,
-    own_surface: u32,
-    hidden_back: Option<&'a [bool]>,
-    list_subpixel: bool,
+#[derive(Clone, Copy)]
+pub(super) struct Draw<'a> {
+    pub(super) frame: &'a Frame,
+    pub(super) own_surface: u32,
+    pub(super) hidden_back: Option<&'a [bool]>,
+    pub(super) list_subpixel: bool,
+    /// Count the pixels the front face covers and leave the item and depth
+    /// buffers as they are (see `occlusion.rs`).
+    pub(super) cover_only: bool,
+}
+
+/// Where [`Hemicube::rasterize`] draws a polygon: on which face, as which
+/// item, and whether only to count its coverage.
+#[derive(Clone, Copy)]
+struct Target {
+    face: Face,
+    fi: usize,
+    item: u32,
+    cover_only: bool,
 }
 
 /// Relative margin on a polygon's largest 1/depth (see `Hemicube::nearest`),
@@ -58,6 +72,20 @@ impl Hemicube {
             .map(|w| Between::of(eye, w.parts.iter().copied()))
             .collect::<Option<_>>()
             .unwrap_or_default();
+        let draw = Draw {
+            frame: &frame,
+            own_surface,
+            hidden_back,
+            list_subpixel,
+            cover_only: false,
+        };
+        if let Some(cull) = cull.filter(|c| c.occlusion) {
+            let culled = self.draw_nearest_first::<FILL>(cull, sources, &draw, &within, parts);
+            self.stats.polygons_culled += culled;
+            self.cover_hidden(cull, sources, &draw, &within, parts);
+            self.draw_parts::<FILL>(&draw, sources, parts);
+            return;
+        }
         match cull {
             Some(cull) => {
                 let culled =
@@ -73,28 +101,10 @@ impl Hemicube {
             {
                 continue; // drawn part by part below, or hides none of them
             }
-            let draw = Draw {
-                frame: &frame,
-                own_surface,
-                hidden_back,
-                list_subpixel,
-            };
             self.draw_polygon::<FILL>(poly, id, poly.patch, &draw);
         }
         self.candidates = ids;
-        let mut item = sources.patch_count() as u32;
-        for w in parts {
-            for &poly in &w.parts {
-                let draw = Draw {
-                    frame: &frame,
-                    own_surface,
-                    hidden_back,
-                    list_subpixel: false,
-                };
-                self.draw_polygon::<FILL>(poly, u32::MAX, item, &draw);
-                item += 1;
-            }
-        }
+        self.draw_parts::<FILL>(&draw, sources, parts);
         let splats = std::mem::take(&mut self.splats);
         if let Some(cull) = cull {
             for &node in &splats {
@@ -104,9 +114,30 @@ impl Hemicube {
         self.splats = splats;
     }
 
+    /// Draws the patches of `parts` part by part, each part its own item
+    /// after the patches' (see `parts.rs`).
+    fn draw_parts<const FILL: bool>(
+        &mut self,
+        draw: &Draw<'_>,
+        sources: &Sources,
+        parts: &[PartSources<'_>],
+    ) {
+        let draw = Draw {
+            list_subpixel: false,
+            ..*draw
+        };
+        let mut item = sources.patch_count() as u32;
+        for w in parts {
+            for &poly in &w.parts {
+                self.draw_polygon::<FILL>(poly, u32::MAX, item, &draw);
+                item += 1;
+            }
+        }
+    }
+
     /// Draws `poly` (source polygon `id`) seen from `draw.frame` as `item`
     /// where its front shows (see [`Hemicube::render`]).
-    fn draw_polygon<const FILL: bool>(
+    pub(super) fn draw_polygon<const FILL: bool>(
         &mut self,
         poly: &SourcePolygon,
         id: u32,
@@ -118,6 +149,7 @@ impl Hemicube {
             own_surface,
             hidden_back,
             list_subpixel,
+            cover_only,
         } = draw;
         if poly.surface == own_surface || (poly.centre - frame.eye).dot(frame.normal) < -poly.radius
         {
@@ -153,15 +185,30 @@ impl Hemicube {
             return;
         }
         let item = if h < 0.0 { item } else { BACK_FACE };
+        if cover_only && item == BACK_FACE {
+            return; // back faces cover nothing that counts
+        }
         let near = 1e-7 * scale;
         match sole_face(&local[..count]) {
             Some(fi) => {
                 let face = Face::ALL[fi];
-                self.rasterize::<FILL>(face, fi, &local[..count], face.map(m), h, near, item);
+                let target = Target {
+                    face,
+                    fi,
+                    item,
+                    cover_only,
+                };
+                self.rasterize::<FILL>(target, &local[..count], face.map(m), h, near);
             }
             None => {
                 for (fi, face) in Face::ALL.iter().enumerate() {
-                    self.rasterize::<FILL>(*face, fi, &local[..count], face.map(m), h, near, item);
+                    let target = Target {
+                        face: *face,
+                        fi,
+                        item,
+                        cover_only,
+                    };
+                    self.rasterize::<FILL>(target, &local[..count], face.map(m), h, near);
                 }
             }
         }
@@ -198,17 +245,20 @@ impl Hemicube {
     /// Clips the polygon to the face's view volume in front of the near plane,
     /// projects it, and scan converts it with a depth test on 1/depth (which is
     /// affine in face coordinates for a planar polygon, hence exact).
-    #[allow(clippy::too_many_arguments)]
     fn rasterize<const FILL: bool>(
         &mut self,
-        face: Face,
-        fi: usize,
+        target: Target,
         local: &[DVec3],
         m: DVec3,
         h: f64,
         near: f64,
-        item: u32,
     ) {
+        let Target {
+            face,
+            fi,
+            item,
+            cover_only,
+        } = target;
         // Cull against the frustum's planes (all vertices beyond one plane)
         // before building anything: most polygons miss most faces.
         let mut mapped = [DVec3::ZERO; 4];
@@ -251,7 +301,9 @@ impl Hemicube {
         // 1/depth at pixel (i, j): u = (i + 0.5)/half - 1, w = (j + 0.5)/half - y_offset.
         let (du, dw) = (m.x / h / half, m.y / h / half);
         let base = (m.x * (0.5 / half - 1.0) + m.y * (0.5 / half - y_offset) + m.z) / h;
-        self.stats.polygons_rasterized += 1;
+        if !cover_only {
+            self.stats.polygons_rasterized += 1;
+        }
         // The first pixel row at or below each vertex's pixel-centre line,
         // once per vertex: every edge's row range, and the polygon's, are
         // made of these (ceil_index is monotonic, so the polygon's is the
@@ -317,17 +369,19 @@ impl Hemicube {
             // 1/depth steps linearly along the span; single precision is ample
             // for the depth test (the plane equation itself is in double).
             let first = base + dw * j as f64 + du * i0 as f64;
-            let mut z = first as f32;
-            let dz = du as f32;
-            for (d, it) in depth[off + i0..off + i1]
-                .iter_mut()
-                .zip(&mut items[off + i0..off + i1])
-            {
-                if z > *d {
-                    *d = z;
-                    *it = item;
+            if !cover_only {
+                let mut z = first as f32;
+                let dz = du as f32;
+                for (d, it) in depth[off + i0..off + i1]
+                    .iter_mut()
+                    .zip(&mut items[off + i0..off + i1])
+                {
+                    if z > *d {
+                        *d = z;
+                        *it = item;
+                    }
+                    z += dz;
                 }
-                z += dz;
             }
             if i1 > i0 {
                 // 1/depth is affine along the span: its largest value is at
@@ -338,13 +392,15 @@ impl Hemicube {
                 drawn.include(j, j + 1, i0, i1);
             }
         }
-        if !drawn.is_empty() {
+        if !drawn.is_empty() && !cover_only {
             self.drawn[fi].include(drawn.j0, drawn.j1, drawn.i0, drawn.i1);
             // The pixels' single-precision steps can overshoot the largest
             // span end by rounding only; the margin covers it many times over.
             self.nearest[fi] = self.nearest[fi].max((most * (1.0 + NEAREST_MARGIN)) as f32);
         }
-        self.stats.pixels_tested += tested;
+        if !cover_only {
+            self.stats.pixels_tested += tested;
+        }
         if item < BACK_FACE && covered > 0.0 {
             let slot = &mut self.covered[item as usize];
             if *slot == 0.0 {
@@ -456,7 +512,13 @@ mod tests {
                     continue;
                 }
                 let before = cube.stats.polygons_rasterized;
-                cube.rasterize::<true>(*face, fi, &tri, face.map(DVec3::Z), -1.0, 1e-9, 0);
+                let target = Target {
+                    face: *face,
+                    fi,
+                    item: 0,
+                    cover_only: false,
+                };
+                cube.rasterize::<true>(target, &tri, face.map(DVec3::Z), -1.0, 1e-9);
                 assert_eq!(
                     cube.stats.polygons_rasterized, before,
                     "face {fi} drew a polygon of face {f}: {tri:?}"

@@ -17,6 +17,9 @@ pub struct HemicubeStats {
     /// Source polygons dropped before projection: on the receiver's own
     /// surface, wholly behind or on its plane, or seen edge-on.
     pub polygons_culled: u64,
+    /// Source polygons under BVH nodes that the depth buffer already hid
+    /// wholly (see `occlusion.rs`), never drawn.
+    pub polygons_hidden: u64,
     /// Back faces not drawn because front faces of their own closed object
     /// hide them (see `crate::formfactor::ClosedObjects`).
     pub back_faces_skipped: u64,
@@ -36,7 +39,7 @@ pub struct HemicubeStats {
 
 impl HemicubeStats {
     /// Every counter, in declaration order, for element-wise arithmetic.
-    fn counters(&mut self) -> [&mut u64; 11] {
+    fn counters(&mut self) -> [&mut u64; 12] {
         [
             &mut self.hemicubes,
             &mut self.polygons_rasterized,
@@ -44,6 +47,7 @@ impl HemicubeStats {
             &mut self.empty_faces,
             &mut self.pixels_skipped,
             &mut self.polygons_culled,
+            &mut self.polygons_hidden,
             &mut self.back_faces_skipped,
             &mut self.exact_rows,
             &mut self.emitters_exact,
