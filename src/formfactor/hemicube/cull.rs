@@ -189,6 +189,14 @@ pub(super) enum Fate {
 }
 
 impl Cull<'_> {
+    /// The polygons of leaf node `index`.
+    pub(super) fn leaf_polygons(&self, index: u32) -> &[u32] {
+        let bvh = &self.occluders.bvh;
+        let node = &bvh.nodes[index as usize];
+        let first = node.first_index as usize;
+        &bvh.primitive_indices[first..first + node.prim_count as usize]
+    }
+
     /// Node `index`'s box in scene coordinates.
     pub(super) fn node_box(&self, index: u32) -> (DVec3, DVec3) {
         let aabb = self.occluders.bvh.nodes[index as usize].aabb();
@@ -255,8 +263,7 @@ impl Cull<'_> {
                 Fate::Open => {
                     let node = &bvh.nodes[index as usize];
                     if node.is_leaf() {
-                        let first = node.first_index as usize;
-                        for &id in &bvh.primitive_indices[first..first + node.prim_count as usize] {
+                        for &id in self.leaf_polygons(index) {
                             found.insert(id);
                         }
                     } else {

@@ -57,7 +57,6 @@ impl Hemicube {
     /// polygons of the patches in `parts` and those `within` rules out are
     /// not drawn, as in [`Hemicube::render`]. Returns the polygons left out
     /// below the horizon.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn draw_nearest_first<const FILL: bool>(
         &mut self,
         cull: &Cull<'_>,
@@ -91,8 +90,7 @@ impl Hemicube {
                     }
                     let node = &bvh.nodes[index as usize];
                     if node.is_leaf() {
-                        let first = node.first_index as usize;
-                        for &id in &bvh.primitive_indices[first..first + node.prim_count as usize] {
+                        for &id in cull.leaf_polygons(index) {
                             let poly = &sources.polygons[id as usize];
                             if drawn_elsewhere(poly, within, parts) {
                                 continue;
@@ -155,8 +153,7 @@ impl Hemicube {
                     stack.push(node.first_index);
                     continue;
                 }
-                let first = node.first_index as usize;
-                for &id in &bvh.primitive_indices[first..first + node.prim_count as usize] {
+                for &id in cull.leaf_polygons(index) {
                     let poly = &sources.polygons[id as usize];
                     let patch = poly.patch as usize;
                     if self.covered[patch] == 0.0
