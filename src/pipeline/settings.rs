@@ -34,10 +34,12 @@ pub struct Settings {
     /// hemi-cube's pixels.
     pub emitter_sampling: EmitterSampling,
     /// Draw BVH subtrees of polygons that would cover less than a pixel of a
-    /// hemi-cube as one sample each, instead of polygon by polygon: the
-    /// hemi-cube's work then follows its pixel count, not the scene's
-    /// polygon count. Off draws every polygon above the horizon (for
-    /// comparison; on scenes whose patches all cover pixels, the same rows).
+    /// hemi-cube as one sample each, instead of polygon by polygon, and
+    /// leave out subtrees that what is already drawn hides wholly (drawing
+    /// nearest first): the hemi-cube's work then follows its pixel count and
+    /// what it sees, not the scene's polygon count. Off draws every polygon
+    /// above the horizon (for comparison; on scenes whose patches all cover
+    /// pixels and hide nothing, the same rows).
     pub level_of_detail: bool,
     /// Gauss-Seidel stopping rules.
     pub solver: SolverSettings,
