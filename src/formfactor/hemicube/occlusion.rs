@@ -21,9 +21,10 @@
 //! - The sub-pixel test of a polygon that covers no pixel centre, whose ray
 //!   to its centroid may pass beside the thin thing that won the pixel, or
 //!   meet a coplanar neighbour. A hidden box's polygons are not tested: the
-//!   pixels say they are hidden. Testing them as a full pass does cost more
-//!   than occlusion culling saved on a game level (292 CPU s against 220 to
-//!   233 for drawing everything);
+//!   pixels say they are hidden. A first build that tested them (scan
+//!   converting them to find which cover no pixel centre) cost more than
+//!   occlusion culling saved on a game level (292 CPU s against 220 to 233
+//!   for drawing everything);
 //!   leaving them out moves rows of a finely meshed atrium by 0.34% on
 //!   average (see the tests), and left the errors against path-traced
 //!   references where they were (the Cornell box, the atrium, the Ferren
