@@ -33,7 +33,7 @@
 use super::cull::{Between, Cull, Fate, Frame};
 use super::faces::Face;
 use super::parts::PartSources;
-use super::raster::Draw;
+use super::raster::{drawn_elsewhere, Draw};
 use super::Hemicube;
 use crate::formfactor::Sources;
 use glam::DVec3;
@@ -285,17 +285,6 @@ fn small_form_factor(
     } else {
         0.0
     })
-}
-
-/// Whether `poly` is drawn part by part or can hide none of the patches drawn
-/// that way (see [`Hemicube::render`]).
-fn drawn_elsewhere(
-    poly: &crate::formfactor::SourcePolygon,
-    within: &[Between],
-    parts: &[PartSources<'_>],
-) -> bool {
-    parts.iter().any(|w| w.patch == poly.patch)
-        || (!within.is_empty() && !within.iter().any(|b| b.meets(poly.centre, poly.radius)))
 }
 
 #[cfg(test)]

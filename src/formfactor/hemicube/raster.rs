@@ -62,8 +62,6 @@ impl Hemicube {
             self.covered_pixels.resize(n, 0);
         }
         let frame = Frame::new(eye, normal, angle);
-        let mut ids = std::mem::take(&mut self.candidates);
-        ids.clear();
         // Only what may stand between the eye and the patches drawn part by
         // part matters then; where nothing can be left out for one of them,
         // everything does.
@@ -86,6 +84,8 @@ impl Hemicube {
             self.draw_parts::<FILL>(&draw, sources, parts);
             return;
         }
+        let mut ids = std::mem::take(&mut self.candidates);
+        ids.clear();
         match cull {
             Some(cull) => {
                 let culled =
@@ -96,12 +96,9 @@ impl Hemicube {
         }
         for &id in &ids {
             let poly = &sources.polygons[id as usize];
-            if parts.iter().any(|w| w.patch == poly.patch)
-                || (!within.is_empty() && !within.iter().any(|b| b.meets(poly.centre, poly.radius)))
-            {
-                continue; // drawn part by part below, or hides none of them
+            if !drawn_elsewhere(poly, &within, parts) {
+                self.draw_polygon::<FILL>(poly, id, poly.patch, &draw);
             }
-            self.draw_polygon::<FILL>(poly, id, poly.patch, &draw);
         }
         self.candidates = ids;
         self.draw_parts::<FILL>(&draw, sources, parts);
@@ -410,6 +407,18 @@ impl Hemicube {
             self.covered_pixels[item as usize] += tested as u32;
         }
     }
+}
+
+/// Whether `poly` is drawn part by part (with `parts`) or can hide none of
+/// the patches drawn that way (outside every one of `within`), so that the
+/// pass over the patches leaves it out.
+pub(super) fn drawn_elsewhere(
+    poly: &SourcePolygon,
+    within: &[Between],
+    parts: &[PartSources<'_>],
+) -> bool {
+    parts.iter().any(|w| w.patch == poly.patch)
+        || (!within.is_empty() && !within.iter().any(|b| b.meets(poly.centre, poly.radius)))
 }
 
 /// The face whose view cone holds every vertex of `local` strictly inside
